@@ -1,0 +1,315 @@
+/* case: dictionaries -> run controls, parameters and particles (see case.h). */
+#include "case/case.h"
+#include "core/sl_log.h"
+#include "core/sl_mem.h"
+#include "dictionary/dict.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- error helpers: every failure names file, line and key ---- */
+
+static void need(int status, const sl_err *err)
+{
+    if (status) sl_fatal("%s", err->msg);
+}
+
+static dict *read_dict(const sl_case *c, const char *rel)
+{
+    sl_err err;
+    size_t len = strlen(c->dir) + strlen(rel) + 2;
+    char *path = sl_malloc(len, "path");
+    snprintf(path, len, "%s/%s", c->dir, rel);
+    dict *d = dict_read_file(path, &err);
+    free(path);
+    if (!d) sl_fatal("%s", err.msg);
+    return d;
+}
+
+/* Stop with "<file>:<line>: keyword '<key>': <why>". */
+static void bad_value(const dict *d, const char *key, const char *why)
+{
+    const dict_entry *e = dict_lookup(d, key);
+    if (e)
+        sl_fatal("%s:%d: keyword '%s': %s", dict_entry_file(e), dict_entry_line(e), key, why);
+    sl_fatal("%s: keyword '%s': %s", dict_file(d), key, why);
+}
+
+static double positive(const dict *d, const char *key, double v)
+{
+    if (!(v > 0.0)) bad_value(d, key, "must be a positive number");
+    return v;
+}
+
+static int choose(const dict *d, const char *key, const char *word, const char *const *choices)
+{
+    for (int i = 0; choices[i]; i++)
+        if (strcmp(word, choices[i]) == 0) return i;
+    char why[512];
+    size_t off = (size_t)snprintf(why, sizeof why, "'%s' is not one of:", word);
+    for (int i = 0; choices[i] && off < sizeof why; i++)
+        off += (size_t)snprintf(why + off, sizeof why - off, " %s", choices[i]);
+    bad_value(d, key, why);
+    return -1;
+}
+
+/* ---- system/controlDict ---- */
+
+static const char *const control_keys[] = {
+    "application", "startFrom", "startTime", "endTime", "writeInterval", "writeFormat",
+    "writeCompression", "timePrecision", "purgeWrite", "numberOfThreads", "writeBoundary",
+    "functions", NULL};
+
+static void read_controls(sl_case *c)
+{
+    static const char *const start_choices[] = {"startTime", "latestTime", NULL};
+    static const char *const format_choices[] = {"binary", "ascii", NULL};
+    dict *d = read_dict(c, "system/controlDict");
+    case_controls *k = &c->ctl;
+    sl_err err;
+    const char *w;
+    long l;
+    dict_warn_unknown(d, control_keys);
+    need(dict_get_word_or(d, "startFrom", "startTime", &w, &err), &err);
+    k->start_from = choose(d, "startFrom", w, start_choices) ? CASE_LATEST_TIME : CASE_START_TIME;
+    need(dict_get_scalar_or(d, "startTime", 0.0, &k->start_time, &err), &err);
+    need(dict_get_scalar(d, "endTime", &k->end_time, &err), &err);
+    if (!(k->end_time > k->start_time)) bad_value(d, "endTime", "must be larger than startTime");
+    need(dict_get_scalar(d, "writeInterval", &k->write_interval, &err), &err);
+    positive(d, "writeInterval", k->write_interval);
+    need(dict_get_word_or(d, "writeFormat", "binary", &w, &err), &err);
+    k->ascii = choose(d, "writeFormat", w, format_choices);
+    need(dict_get_bool_or(d, "writeCompression", 1, &k->compress, &err), &err);
+    need(dict_get_int_or(d, "timePrecision", 6, &l, &err), &err);
+    if (l < 1 || l > 17) bad_value(d, "timePrecision", "must be between 1 and 17");
+    k->time_precision = (int)l;
+    need(dict_get_int_or(d, "purgeWrite", 0, &l, &err), &err);
+    if (l < 0) bad_value(d, "purgeWrite", "must be 0 (keep all) or a positive count");
+    k->purge_write = (int)l;
+    need(dict_get_int_or(d, "numberOfThreads", 0, &l, &err), &err);
+    if (l < 0 || l > 4096) bad_value(d, "numberOfThreads", "must be 0 (all cores) or a thread count");
+    k->nthreads = (int)l;
+    need(dict_get_bool_or(d, "writeBoundary", 1, &k->write_boundary, &err), &err);
+    dict_free(d);
+}
+
+/* ---- system/timeStepDict ---- */
+
+static const char *const timestep_keys[] = {"mode", "deltaT", NULL};
+
+static void read_timestep(sl_case *c)
+{
+    static const char *const modes[] = {"constant", "adaptive", NULL};
+    dict *d = read_dict(c, "system/timeStepDict");
+    sl_err err;
+    const char *w;
+    dict_warn_unknown(d, timestep_keys);
+    need(dict_get_word_or(d, "mode", "constant", &w, &err), &err);
+    c->ts.adaptive = choose(d, "mode", w, modes);
+    if (c->ts.adaptive)
+        bad_value(d, "mode", "adaptive time stepping is not available yet; use 'constant'");
+    need(dict_get_scalar(d, "deltaT", &c->ts.dt, &err), &err);
+    positive(d, "deltaT", c->ts.dt);
+    dict_free(d);
+}
+
+/* ---- constant/fluidProperties ---- */
+
+static const char *const fluid_keys[] = {"rho0", "particleSpacing", "gravity", "eta",
+                                         "minIterations", "maxIterations", "fluidRegions",
+                                         NULL};
+static const char *const region_keys[] = {"type", "min", "max", "velocity", NULL};
+
+static void read_region(sl_case *c, const dict *r)
+{
+    static const char *const types[] = {"box", NULL};
+    static const double zero[3] = {0, 0, 0};
+    sl_err err;
+    const char *w;
+    case_region *g;
+    dict_warn_unknown(r, region_keys);
+    need(dict_get_word(r, "type", &w, &err), &err);
+    choose(r, "type", w, types);
+    c->regions = sl_realloc(c->regions, (c->nregions + 1) * sizeof *c->regions, "fluid regions");
+    g = &c->regions[c->nregions++];
+    memset(g, 0, sizeof *g);
+    snprintf(g->name, sizeof g->name, "%s", dict_name(r));
+    need(dict_get_vector(r, "min", g->lo, &err), &err);
+    need(dict_get_vector(r, "max", g->hi, &err), &err);
+    need(dict_get_vector_or(r, "velocity", zero, g->velocity, &err), &err);
+    for (int k = 0; k < 3; k++)
+        if (!(g->hi[k] > g->lo[k])) bad_value(r, "max", "must be larger than min in every component");
+}
+
+static void read_fluid(sl_case *c)
+{
+    static const double g0[3] = {0, 0, -9.81};
+    dict *d = read_dict(c, "constant/fluidProperties");
+    pcs_params *p = &c->prm;
+    sl_err err;
+    long l;
+    double eta;
+    dict_warn_unknown(d, fluid_keys);
+    need(dict_get_scalar(d, "rho0", &p->rho0, &err), &err);
+    positive(d, "rho0", p->rho0);
+    need(dict_get_scalar(d, "particleSpacing", &p->r0, &err), &err);
+    positive(d, "particleSpacing", p->r0);
+    need(dict_get_vector_or(d, "gravity", g0, p->gravity, &err), &err);
+    need(dict_get_scalar_or(d, "eta", 1.0, &eta, &err), &err);
+    if (!(eta > 0.0 && eta < 100.0)) bad_value(d, "eta", "must be a percentage between 0 and 100");
+    p->eta = eta / 100.0;
+    need(dict_get_int_or(d, "minIterations", 3, &l, &err), &err);
+    if (l < 1 || l > 1000) bad_value(d, "minIterations", "must be between 1 and 1000");
+    p->min_iter = (int)l;
+    need(dict_get_int_or(d, "maxIterations", 100, &l, &err), &err);
+    if (l < p->min_iter || l > 100000) bad_value(d, "maxIterations", "must be at least minIterations");
+    p->max_iter = (int)l;
+    const dict *regions = dict_sub(d, "fluidRegions");
+    if (!regions) bad_value(d, "fluidRegions", "a dictionary of fluid regions is required");
+    for (size_t i = 0; i < dict_size(regions); i++) {
+        const dict *r = dict_entry_dict(dict_entry_at(regions, i));
+        if (!r) {
+            const dict_entry *e = dict_entry_at(regions, i);
+            sl_fatal("%s:%d: fluid region '%s' must be a dictionary", dict_entry_file(e),
+                     dict_entry_line(e), dict_entry_key(e));
+        }
+        read_region(c, r);
+    }
+    if (c->nregions == 0) bad_value(d, "fluidRegions", "names no fluid region");
+    dict_free(d);
+}
+
+/* ---- constant/boundaryProperties ---- */
+
+static const char *const boundary_keys[] = {"method", "epsilon", "geometry", NULL};
+static const char *const shape_keys[] = {"type", "min", "max", "centre", "radius", "open", NULL};
+
+static unsigned read_open_faces(const dict *s)
+{
+    static const char *const faces[] = {"xMin", "xMax", "yMin", "yMax", "zMin", "zMax", NULL};
+    unsigned mask = 0;
+    char **words = NULL;
+    size_t n = 0;
+    sl_err err;
+    if (!dict_has(s, "open")) return 0;
+    need(dict_get_word_list(s, "open", &words, &n, &err), &err);
+    for (size_t i = 0; i < n; i++) {
+        mask |= 1u << choose(s, "open", words[i], faces);
+        free(words[i]);
+    }
+    free(words);
+    return mask;
+}
+
+static void read_shape(sl_case *c, const dict *s)
+{
+    static const char *const types[] = {"container", "box", "sphere", NULL};
+    sl_err err;
+    const char *w;
+    geo_shape *g;
+    dict_warn_unknown(s, shape_keys);
+    need(dict_get_word(s, "type", &w, &err), &err);
+    int kind = choose(s, "type", w, types);
+    c->shapes = sl_realloc(c->shapes, (c->nshapes + 1) * sizeof *c->shapes, "geometry");
+    g = &c->shapes[c->nshapes++];
+    memset(g, 0, sizeof *g);
+    snprintf(g->name, sizeof g->name, "%s", dict_name(s));
+    g->kind = kind == 0 ? GEO_CONTAINER : kind == 1 ? GEO_BOX : GEO_SPHERE;
+    if (g->kind == GEO_SPHERE) {
+        need(dict_get_vector(s, "centre", g->centre, &err), &err);
+        need(dict_get_scalar(s, "radius", &g->radius, &err), &err);
+        positive(s, "radius", g->radius);
+        return;
+    }
+    need(dict_get_vector(s, "min", g->lo, &err), &err);
+    need(dict_get_vector(s, "max", g->hi, &err), &err);
+    for (int k = 0; k < 3; k++)
+        if (!(g->hi[k] > g->lo[k])) bad_value(s, "max", "must be larger than min in every component");
+    if (g->kind == GEO_CONTAINER) g->open_faces = read_open_faces(s);
+}
+
+static void read_boundary(sl_case *c)
+{
+    static const char *const methods[] = {"ihmsen2010", NULL};
+    dict *d = read_dict(c, "constant/boundaryProperties");
+    sl_err err;
+    const char *w;
+    dict_warn_unknown(d, boundary_keys);
+    need(dict_get_word_or(d, "method", "ihmsen2010", &w, &err), &err);
+    choose(d, "method", w, methods);
+    snprintf(c->method, sizeof c->method, "%s", w);
+    need(dict_get_scalar_or(d, "epsilon", 1.0, &c->prm.epsilon, &err), &err);
+    if (!(c->prm.epsilon >= 0.0 && c->prm.epsilon <= 1.0)) bad_value(d, "epsilon", "must be in [0, 1]");
+    const dict *geo = dict_sub(d, "geometry");
+    if (!geo) bad_value(d, "geometry", "a dictionary of boundary shapes is required");
+    for (size_t i = 0; i < dict_size(geo); i++) {
+        const dict_entry *e = dict_entry_at(geo, i);
+        if (!dict_entry_dict(e))
+            sl_fatal("%s:%d: geometry entry '%s' must be a dictionary", dict_entry_file(e),
+                     dict_entry_line(e), dict_entry_key(e));
+        read_shape(c, dict_entry_dict(e));
+    }
+    dict_free(d);
+}
+
+void case_read(sl_case *c, const char *dir)
+{
+    memset(c, 0, sizeof *c);
+    c->dir = sl_strdup(dir);
+    prt_fluid_init(&c->fluid);
+    prt_boundary_init(&c->boundary);
+    read_controls(c);
+    read_timestep(c);
+    read_fluid(c);
+    read_boundary(c);
+}
+
+/* ---- building the world ---- */
+
+static void grow_bounds(double lo[3], double hi[3], const double a[3], const double b[3])
+{
+    for (int k = 0; k < 3; k++) {
+        if (a[k] < lo[k]) lo[k] = a[k];
+        if (b[k] > hi[k]) hi[k] = b[k];
+    }
+}
+
+void case_build(sl_case *c)
+{
+    const double r0 = c->prm.r0;
+    for (int k = 0; k < 3; k++) { c->lo[k] = INFINITY; c->hi[k] = -INFINITY; }
+    for (size_t s = 0; s < c->nshapes; s++) {
+        const geo_shape *g = &c->shapes[s];
+        double lo[3], hi[3];
+        if (geo_sample(g, r0, (uint32_t)s, &c->boundary) == 0)
+            sl_fatal("%s/constant/boundaryProperties: geometry '%s' is too small to sample "
+                     "with particleSpacing %g", c->dir, g->name, r0);
+        geo_bounds(g, r0, lo, hi);
+        grow_bounds(c->lo, c->hi, lo, hi);
+    }
+    for (size_t r = 0; r < c->nregions; r++) {
+        const case_region *g = &c->regions[r];
+        size_t n = geo_fill_box(g->lo, g->hi, r0, g->velocity, c->shapes, c->nshapes, &c->fluid);
+        if (n == 0)
+            sl_fatal("%s/constant/fluidProperties: fluid region '%s' holds no particle "
+                     "(outside the container, inside an obstacle, or smaller than "
+                     "particleSpacing %g)", c->dir, g->name, r0);
+        grow_bounds(c->lo, c->hi, g->lo, g->hi);
+    }
+    if (c->fluid.n > UINT32_MAX / 2 || c->boundary.n > UINT32_MAX / 2)
+        sl_fatal("%s: too many particles (%zu fluid, %zu boundary)", c->dir, c->fluid.n,
+                 c->boundary.n);
+    for (int k = 0; k < 3; k++) { c->lo[k] -= 2 * r0; c->hi[k] += 2 * r0; }
+}
+
+void case_free(sl_case *c)
+{
+    prt_fluid_free(&c->fluid);
+    prt_boundary_free(&c->boundary);
+    free(c->shapes);
+    free(c->regions);
+    free(c->dir);
+    memset(c, 0, sizeof *c);
+}

@@ -1,0 +1,185 @@
+/* case_output: time directories and collections (see case_output.h). */
+#include "case/case_output.h"
+#include "core/sl_log.h"
+#include "core/sl_mem.h"
+#include "io/time_dir.h"
+#include "io/vtk_collection.h"
+#include "io/vtk_writer.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static char *join(const char *a, const char *b)
+{
+    size_t n = strlen(a) + strlen(b) + 2;
+    char *s = sl_malloc(n, "path");
+    snprintf(s, n, "%s/%s", a, b);
+    return s;
+}
+
+/* Remove a directory holding only files (a time directory). */
+static void remove_dir(const char *path)
+{
+    DIR *d = opendir(path);
+    struct dirent *e;
+    if (!d) return;
+    while ((e = readdir(d)))
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
+            char *p = join(path, e->d_name);
+            unlink(p);
+            free(p);
+        }
+    closedir(d);
+    rmdir(path);
+}
+
+static void push_time(case_output *o, double t, const char *name)
+{
+    if (o->n == o->cap) {
+        o->cap = o->cap ? 2 * o->cap : 64;
+        o->times = sl_realloc(o->times, o->cap * sizeof *o->times, "time list");
+        o->names = sl_realloc(o->names, o->cap * sizeof *o->names, "time list");
+    }
+    o->times[o->n] = t;
+    o->names[o->n] = sl_strdup(name);
+    o->n++;
+}
+
+void out_init(case_output *o, const sl_case *c, double start_time)
+{
+    tdir_list l;
+    sl_err err;
+    memset(o, 0, sizeof *o);
+    o->c = c;
+    if (tdir_list_read(c->dir, "fluid.vtu", &l, &err)) sl_fatal("%s", err.msg);
+    for (size_t i = 0; i < l.n; i++)
+        if (l.time[i] < start_time - 1e-12 * (1.0 + fabs(start_time))) push_time(o, l.time[i], l.name[i]);
+    tdir_list_free(&l);
+}
+
+void out_free(case_output *o)
+{
+    for (size_t i = 0; i < o->n; i++) free(o->names[i]);
+    free(o->names);
+    free(o->times);
+    memset(o, 0, sizeof *o);
+}
+
+static int write_fluid(const char *path, const pcs_solver *s, const vtk_options *opt, sl_err *err)
+{
+    const sl_fluid *f = s->f;
+    const double rho0 = s->prm.rho0;
+    double *derr = sl_alloc_aligned(f->n * sizeof *derr, "density error output");
+    for (size_t i = 0; i < f->n; i++) derr[i] = 100.0 * (f->rho[i] - rho0) / rho0;
+    vtk_field fields[] = {
+        {"velocity", 3, VTK_FLOAT64, {f->vx, f->vy, f->vz}},
+        {"pressure", 1, VTK_FLOAT64, {f->p, NULL, NULL}},
+        {"density", 1, VTK_FLOAT64, {f->rho, NULL, NULL}},
+        {"densityError", 1, VTK_FLOAT64, {derr, NULL, NULL}},
+        {"id", 1, VTK_UINT32, {f->id, NULL, NULL}},
+    };
+    int rc = vtk_write_points(path, f->n, f->x, f->y, f->z, fields,
+                              sizeof fields / sizeof *fields, opt, err);
+    sl_free_aligned(derr);
+    return rc;
+}
+
+static int write_boundary(const char *path, const pcs_solver *s, const vtk_options *opt, sl_err *err)
+{
+    const sl_boundary *b = s->b;
+    vtk_field fields[] = {
+        {"normal", 3, VTK_FLOAT64, {b->nx, b->ny, b->nz}},
+        {"pressure", 1, VTK_FLOAT64, {b->p, NULL, NULL}},
+        {"density", 1, VTK_FLOAT64, {b->rho, NULL, NULL}},
+        {"mass", 1, VTK_FLOAT64, {b->mass, NULL, NULL}},
+        {"body", 1, VTK_UINT32, {b->body, NULL, NULL}},
+    };
+    return vtk_write_points(path, b->n, b->x, b->y, b->z, fields,
+                            sizeof fields / sizeof *fields, opt, err);
+}
+
+static int write_collections(case_output *o, sl_err *err)
+{
+    const char *sets[2] = {"fluid", "boundary"};
+    int nsets = o->c->ctl.write_boundary ? 2 : 1;
+    for (int k = 0; k < nsets; k++) {
+        char pvd[64], series[64], file[128];
+        const char **files = sl_malloc((o->n + 1) * sizeof *files, "collection");
+        char **own = sl_malloc((o->n + 1) * sizeof *own, "collection");
+        snprintf(pvd, sizeof pvd, "%s.pvd", sets[k]);
+        snprintf(series, sizeof series, "%s.vtu.series", sets[k]);
+        for (size_t i = 0; i < o->n; i++) {
+            snprintf(file, sizeof file, "%s/%s.vtu", o->names[i], sets[k]);
+            own[i] = sl_strdup(file);
+            files[i] = own[i];
+        }
+        char *pp = join(o->c->dir, pvd), *sp = join(o->c->dir, series);
+        int rc = vtk_collection_write(pp, sp, o->times, files, o->n, err);
+        for (size_t i = 0; i < o->n; i++) free(own[i]);
+        free(own);
+        free(files);
+        free(pp);
+        free(sp);
+        if (rc) return rc;
+    }
+    return 0;
+}
+
+static void purge(case_output *o)
+{
+    int keep = o->c->ctl.purge_write;
+    while (keep > 0 && o->n > (size_t)keep) {
+        char *p = join(o->c->dir, o->names[0]);
+        remove_dir(p);
+        free(p);
+        free(o->names[0]);
+        memmove(o->names, o->names + 1, (o->n - 1) * sizeof *o->names);
+        memmove(o->times, o->times + 1, (o->n - 1) * sizeof *o->times);
+        o->n--;
+    }
+}
+
+int out_write(case_output *o, const pcs_solver *s, double t, sl_err *err)
+{
+    const case_controls *k = &o->c->ctl;
+    char name[64], tmpname[96];
+    vtk_options opt;
+    int rc;
+    tdir_name(t, k->time_precision, name, sizeof name);
+    snprintf(tmpname, sizeof tmpname, "%s.tmp.%ld", name, (long)getpid());
+    char *dir = join(o->c->dir, name), *tmp = join(o->c->dir, tmpname);
+    char *fpath = join(tmp, "fluid.vtu"), *bpath = join(tmp, "boundary.vtu");
+    vtk_options_default(&opt);
+    opt.ascii = k->ascii;
+    opt.compress = k->compress;
+    opt.time = t;
+    remove_dir(tmp);
+    rc = tdir_mkdirs(tmp, err);
+    if (!rc) rc = write_fluid(fpath, s, &opt, err);
+    if (!rc && k->write_boundary) rc = write_boundary(bpath, s, &opt, err);
+    if (!rc) {
+        remove_dir(dir); /* an older run's directory of the same time */
+        if (rename(tmp, dir) != 0) {
+            sl_err_set(err, "cannot rename '%s' to '%s': %s", tmp, dir, strerror(errno));
+            rc = 1;
+        }
+    }
+    if (rc) {
+        remove_dir(tmp);
+    } else {
+        if (o->n && o->times[o->n - 1] >= t) { /* rewritten time: replace */
+            free(o->names[--o->n]);
+        }
+        push_time(o, t, name);
+        purge(o);
+        rc = write_collections(o, err);
+    }
+    free(dir); free(tmp); free(fpath); free(bpath);
+    return rc;
+}

@@ -1,0 +1,315 @@
+/* neighbours: grid, Z-order sorting and neighbour lists (see neighbours.h). */
+#include "neighbours/neighbours.h"
+#include "core/sl_log.h"
+#include "core/sl_mem.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- grid set-up ---- */
+
+static uint64_t spread_bits(uint64_t v)
+{
+    v &= 0x1fffff;
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+}
+
+typedef struct cell_key {
+    uint64_t morton;
+    uint32_t linear;
+} cell_key;
+
+static int cmp_cell_key(const void *a, const void *b)
+{
+    const cell_key *x = a, *y = b;
+    return (x->morton > y->morton) - (x->morton < y->morton);
+}
+
+void nbr_grid_init(nbr_grid *g, const double lo[3], const double hi[3], double h,
+                   size_t max_cells)
+{
+    memset(g, 0, sizeof *g);
+    double cell = h;
+    for (;;) {
+        size_t total = 1;
+        for (int d = 0; d < 3; d++) {
+            double len = hi[d] - lo[d];
+            g->nc[d] = (int)ceil(len / cell) + 1;
+            if (g->nc[d] < 1) g->nc[d] = 1;
+            total *= (size_t)g->nc[d];
+        }
+        if (total <= max_cells || total < 64) { g->ncells = total; break; }
+        cell *= 1.25;
+    }
+    if (cell > h)
+        sl_warning("neighbour grid: scene too large for %zu cells of size h; "
+                   "using cells of %g (h = %g): search is slower", max_cells, cell, h);
+    for (int d = 0; d < 3; d++) g->lo[d] = lo[d];
+    g->cell = cell;
+    g->inv_cell = 1.0 / cell;
+    g->h2 = h * h;
+    cell_key *keys = sl_malloc(g->ncells * sizeof *keys, "grid cell order");
+    for (int cz = 0; cz < g->nc[2]; cz++)
+        for (int cy = 0; cy < g->nc[1]; cy++)
+            for (int cx = 0; cx < g->nc[0]; cx++) {
+                size_t lin = (size_t)cx + (size_t)g->nc[0] * ((size_t)cy + (size_t)g->nc[1] * (size_t)cz);
+                keys[lin].linear = (uint32_t)lin;
+                keys[lin].morton = spread_bits((uint64_t)cx) | spread_bits((uint64_t)cy) << 1 |
+                                   spread_bits((uint64_t)cz) << 2;
+            }
+    qsort(keys, g->ncells, sizeof *keys, cmp_cell_key);
+    g->rank = sl_alloc_aligned(g->ncells * sizeof *g->rank, "grid ranks");
+    for (size_t k = 0; k < g->ncells; k++) g->rank[keys[k].linear] = (uint32_t)k;
+    free(keys);
+    g->fstart = sl_alloc_aligned((g->ncells + 1) * sizeof *g->fstart, "grid cells");
+    g->bstart = sl_alloc_aligned((g->ncells + 1) * sizeof *g->bstart, "grid cells");
+    g->count = sl_alloc_aligned((g->ncells + 1) * sizeof *g->count, "grid cells");
+}
+
+void nbr_grid_free(nbr_grid *g)
+{
+    sl_free_aligned(g->rank);
+    sl_free_aligned(g->fstart);
+    sl_free_aligned(g->bstart);
+    sl_free_aligned(g->count);
+    sl_free_aligned(g->perm);
+    memset(g, 0, sizeof *g);
+}
+
+static inline int clamp_cell(double v, double lo, double inv, int n)
+{
+    double c = floor((v - lo) * inv);
+    if (!(c >= 0.0)) c = 0.0; /* also catches NaN */
+    if (c > (double)(n - 1)) c = (double)(n - 1);
+    return (int)c;
+}
+
+static inline void cell_of(const nbr_grid *g, double x, double y, double z, int c[3])
+{
+    c[0] = clamp_cell(x, g->lo[0], g->inv_cell, g->nc[0]);
+    c[1] = clamp_cell(y, g->lo[1], g->inv_cell, g->nc[1]);
+    c[2] = clamp_cell(z, g->lo[2], g->inv_cell, g->nc[2]);
+}
+
+static inline uint32_t rank_of(const nbr_grid *g, const int c[3])
+{
+    size_t lin = (size_t)c[0] + (size_t)g->nc[0] * ((size_t)c[1] + (size_t)g->nc[1] * (size_t)c[2]);
+    return g->rank[lin];
+}
+
+/* Counting sort of n particles by cell rank: fills start (ncells + 1) and
+ * perm (new index -> old index).  Stable, hence deterministic. */
+static void sort_by_cell(nbr_grid *g, size_t n, const double *x, const double *y,
+                         const double *z, uint32_t *cellv, uint32_t *start, uint32_t *perm)
+{
+#pragma omp parallel for schedule(static)
+    for (size_t i = 0; i < n; i++) {
+        int c[3];
+        cell_of(g, x[i], y[i], z[i], c);
+        cellv[i] = rank_of(g, c);
+    }
+    memset(g->count, 0, (g->ncells + 1) * sizeof *g->count);
+    for (size_t i = 0; i < n; i++) g->count[cellv[i] + 1]++;
+    start[0] = 0;
+    for (size_t k = 0; k < g->ncells; k++) start[k + 1] = start[k] + g->count[k + 1];
+    memcpy(g->count, start, g->ncells * sizeof *g->count);
+    for (size_t i = 0; i < n; i++) perm[g->count[cellv[i]]++] = (uint32_t)i;
+}
+
+void nbr_sort_boundary(nbr_grid *g, sl_boundary *b)
+{
+    uint32_t *cellv = sl_alloc_aligned(b->n * sizeof *cellv, "boundary cells");
+    uint32_t *perm = sl_alloc_aligned(b->n * sizeof *perm, "boundary permutation");
+    sort_by_cell(g, b->n, b->x, b->y, b->z, cellv, g->bstart, perm);
+    prt_boundary_permute(b, perm);
+    sl_free_aligned(cellv);
+    sl_free_aligned(perm);
+}
+
+void nbr_sort_fluid(nbr_grid *g, sl_fluid *f)
+{
+    if (g->perm_cap < f->cap) {
+        sl_free_aligned(g->perm);
+        g->perm = sl_alloc_aligned(f->cap * sizeof *g->perm, "fluid permutation");
+        g->perm_cap = f->cap;
+    }
+    sort_by_cell(g, f->n, f->x, f->y, f->z, f->cell, g->fstart, g->perm);
+    prt_fluid_permute(f, g->perm);
+}
+
+/* ---- neighbour lists ---- */
+
+void nbr_list_init(nbr_list *l) { memset(l, 0, sizeof *l); }
+
+void nbr_list_free(nbr_list *l)
+{
+    sl_free_aligned(l->start);
+    sl_free_aligned(l->idx);
+    for (int t = 0; t < l->nthreads; t++) free(l->tbuf[t]);
+    free(l->tbuf);
+    free(l->tcap);
+    free(l->tlen);
+    memset(l, 0, sizeof *l);
+}
+
+static void list_prepare(nbr_list *l, size_t rows)
+{
+    int nt = omp_get_max_threads();
+    if (rows + 1 > l->rows_cap) {
+        sl_free_aligned(l->start);
+        l->rows_cap = rows + 1 + rows / 4;
+        l->start = sl_alloc_aligned(l->rows_cap * sizeof *l->start, "neighbour list rows");
+    }
+    if (nt > l->nthreads) {
+        l->tbuf = sl_realloc(l->tbuf, (size_t)nt * sizeof *l->tbuf, "neighbour buffers");
+        l->tcap = sl_realloc(l->tcap, (size_t)nt * sizeof *l->tcap, "neighbour buffers");
+        l->tlen = sl_realloc(l->tlen, (size_t)nt * sizeof *l->tlen, "neighbour buffers");
+        for (int t = l->nthreads; t < nt; t++) {
+            l->tbuf[t] = NULL;
+            l->tcap[t] = 0;
+        }
+        l->nthreads = nt;
+    }
+    for (int t = 0; t < l->nthreads; t++) l->tlen[t] = 0;
+    l->n = rows;
+}
+
+static inline void buf_push(nbr_list *l, int t, uint32_t j)
+{
+    if (l->tlen[t] == l->tcap[t]) {
+        size_t cap = l->tcap[t] ? 2 * l->tcap[t] : 4096;
+        l->tbuf[t] = sl_realloc(l->tbuf[t], cap * sizeof *l->tbuf[t], "neighbour buffer");
+        l->tcap[t] = cap;
+    }
+    l->tbuf[t][l->tlen[t]++] = j;
+}
+
+/* Appends to thread t's buffer the particles of the target set within h of
+ * (px, py, pz), skipping index `self`; returns how many were appended. */
+static uint32_t gather(const nbr_grid *g, nbr_list *l, int t, const uint32_t *start,
+                       const double *tx, const double *ty, const double *tz,
+                       double px, double py, double pz, uint32_t self)
+{
+    int c[3], d[3];
+    uint32_t found = 0;
+    cell_of(g, px, py, pz, c);
+    for (d[2] = c[2] - 1; d[2] <= c[2] + 1; d[2]++) {
+        if (d[2] < 0 || d[2] >= g->nc[2]) continue;
+        for (d[1] = c[1] - 1; d[1] <= c[1] + 1; d[1]++) {
+            if (d[1] < 0 || d[1] >= g->nc[1]) continue;
+            for (d[0] = c[0] - 1; d[0] <= c[0] + 1; d[0]++) {
+                if (d[0] < 0 || d[0] >= g->nc[0]) continue;
+                uint32_t k = rank_of(g, d);
+                for (uint32_t j = start[k]; j < start[k + 1]; j++) {
+                    double dx = px - tx[j], dy = py - ty[j], dz = pz - tz[j];
+                    if (dx * dx + dy * dy + dz * dz < g->h2 && j != self) {
+                        buf_push(l, t, j);
+                        found++;
+                    }
+                }
+            }
+        }
+    }
+    return found;
+}
+
+/* Concatenate the thread buffers (thread order = particle order). */
+static void list_finish(nbr_list *l)
+{
+    size_t total = 0;
+    for (int t = 0; t < l->nthreads; t++) total += l->tlen[t];
+    if (total > UINT32_MAX) sl_fatal("neighbour list exceeds 2^32 entries");
+    if (total > l->idx_cap) {
+        sl_free_aligned(l->idx);
+        l->idx_cap = total + total / 4;
+        l->idx = sl_alloc_aligned(l->idx_cap * sizeof *l->idx, "neighbour list");
+    }
+    size_t off = 0;
+    for (int t = 0; t < l->nthreads; t++) {
+        memcpy(l->idx + off, l->tbuf[t], l->tlen[t] * sizeof *l->idx);
+        off += l->tlen[t];
+    }
+    /* start[] holds counts in rows 1..n; turn them into offsets. */
+    l->start[0] = 0;
+    for (size_t i = 0; i < l->n; i++) l->start[i + 1] += l->start[i];
+}
+
+/* Rows are split into one contiguous block per thread. */
+#define FOR_ROWS_BY_THREAD(l, rows, body)                                     \
+    _Pragma("omp parallel") {                                                 \
+        int t_ = omp_get_thread_num(), nt_ = omp_get_num_threads();           \
+        size_t lo_ = (rows) * (size_t)t_ / (size_t)nt_;                       \
+        size_t hi_ = (rows) * (size_t)(t_ + 1) / (size_t)nt_;                 \
+        for (size_t i = lo_; i < hi_; i++) { body }                           \
+    }
+
+void nbr_build_ff(const nbr_grid *g, const sl_fluid *f, nbr_list *l)
+{
+    list_prepare(l, f->n);
+    FOR_ROWS_BY_THREAD(l, f->n, {
+        l->start[i + 1] = gather(g, l, t_, g->fstart, f->x, f->y, f->z,
+                                 f->x[i], f->y[i], f->z[i], (uint32_t)i);
+    })
+    list_finish(l);
+}
+
+void nbr_build_fb(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *l)
+{
+    list_prepare(l, f->n);
+    FOR_ROWS_BY_THREAD(l, f->n, {
+        l->start[i + 1] = gather(g, l, t_, g->bstart, b->x, b->y, b->z,
+                                 f->x[i], f->y[i], f->z[i], UINT32_MAX);
+    })
+    list_finish(l);
+}
+
+/* True when some fluid particle sits in the 27 cells around (x, y, z). */
+static int fluid_nearby(const nbr_grid *g, double x, double y, double z)
+{
+    int c[3], d[3];
+    cell_of(g, x, y, z, c);
+    for (d[2] = c[2] - 1; d[2] <= c[2] + 1; d[2]++)
+        for (d[1] = c[1] - 1; d[1] <= c[1] + 1; d[1]++)
+            for (d[0] = c[0] - 1; d[0] <= c[0] + 1; d[0]++) {
+                if (d[0] < 0 || d[1] < 0 || d[2] < 0 || d[0] >= g->nc[0] ||
+                    d[1] >= g->nc[1] || d[2] >= g->nc[2])
+                    continue;
+                uint32_t k = rank_of(g, d);
+                if (g->fstart[k + 1] > g->fstart[k]) return 1;
+            }
+    return 0;
+}
+
+void nbr_build_bf(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *l,
+                  uint32_t *active, size_t *nactive)
+{
+    list_prepare(l, b->n);
+    FOR_ROWS_BY_THREAD(l, b->n, {
+        l->start[i + 1] = fluid_nearby(g, b->x[i], b->y[i], b->z[i])
+                              ? gather(g, l, t_, g->fstart, f->x, f->y, f->z,
+                                       b->x[i], b->y[i], b->z[i], UINT32_MAX)
+                              : 0;
+    })
+    size_t na = 0;
+    for (size_t i = 0; i < b->n; i++)
+        if (l->start[i + 1] > 0) active[na++] = (uint32_t)i;
+    *nactive = na;
+    list_finish(l);
+}
+
+void nbr_build_bb(const nbr_grid *g, const sl_boundary *b, nbr_list *l)
+{
+    list_prepare(l, b->n);
+    FOR_ROWS_BY_THREAD(l, b->n, {
+        l->start[i + 1] = gather(g, l, t_, g->bstart, b->x, b->y, b->z,
+                                 b->x[i], b->y[i], b->z[i], UINT32_MAX);
+    })
+    list_finish(l);
+}

@@ -1,0 +1,82 @@
+/*
+ * neighbours: uniform-grid neighbour search (paper Sec. 3.4; cell size = h).
+ *
+ * The grid covers the scene's bounding box (fixed at set-up).  Cells are
+ * numbered in Z-order (Morton order) and particles are kept sorted by that
+ * number, so that particles close in space are close in memory.  A particle
+ * outside the box is clamped into the nearest border cell: clamping is
+ * 1-Lipschitz on cell coordinates, so two particles closer than h still sit
+ * in the same or adjacent cells and no neighbour is ever lost (only speed
+ * suffers).
+ *
+ * Neighbour lists are compressed rows (start[i] .. start[i+1] into idx),
+ * built once per step from x(t) and reused by every PCISPH iteration.  They
+ * are gathered per particle (no atomics, no scatter).  Each thread fills its
+ * own buffer for a contiguous, fixed range of particles; the buffers are then
+ * concatenated in order, so the lists are identical for any thread count.
+ */
+#ifndef SL_NEIGHBOURS_H
+#define SL_NEIGHBOURS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "particles/particles.h"
+
+typedef struct nbr_grid {
+    double lo[3];
+    double cell, inv_cell;    /* cell size (>= h) */
+    double h2;                /* squared search radius */
+    int nc[3];
+    size_t ncells;
+    uint32_t *rank;           /* rank[linear cell] = position in Z-order */
+    uint32_t *fstart;         /* fluid particles of rank k: [fstart[k], fstart[k+1]) */
+    uint32_t *bstart;         /* boundary particles, likewise */
+    uint32_t *count;          /* scratch, ncells + 1 */
+    uint32_t *perm;           /* scratch permutation, fluid capacity */
+    size_t perm_cap;
+} nbr_grid;
+
+/* One compressed-row neighbour list with per-thread fill buffers. */
+typedef struct nbr_list {
+    size_t n;                 /* rows */
+    size_t rows_cap;
+    uint32_t *start;          /* n + 1 */
+    uint32_t *idx;            /* start[n] entries */
+    size_t idx_cap;
+    int nthreads;
+    uint32_t **tbuf;          /* per-thread buffers */
+    size_t *tcap, *tlen;
+} nbr_list;
+
+/* Set up a grid over [lo, hi] with search radius h; the cell size is h
+ * unless that would need more than max_cells cells, in which case it grows. */
+void nbr_grid_init(nbr_grid *g, const double lo[3], const double hi[3], double h,
+                   size_t max_cells);
+void nbr_grid_free(nbr_grid *g);
+
+/* Sort the boundary particles by cell (once, at set-up) and fill bstart. */
+void nbr_sort_boundary(nbr_grid *g, sl_boundary *b);
+/* Sort the fluid by cell (permuting all its arrays) and fill fstart. */
+void nbr_sort_fluid(nbr_grid *g, sl_fluid *f);
+
+void nbr_list_init(nbr_list *l);
+void nbr_list_free(nbr_list *l);
+
+/* Fluid -> fluid neighbours (self excluded) within h, from x(t). */
+void nbr_build_ff(const nbr_grid *g, const sl_fluid *f, nbr_list *l);
+/* Fluid -> boundary neighbours within h. */
+void nbr_build_fb(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *l);
+/* Boundary -> fluid neighbours for every boundary particle; rows of
+ * inactive boundary particles (no fluid within h) are empty.  active[] gets
+ * the indices of the boundary particles with at least one fluid neighbour
+ * and *nactive their count (paper Sec. 3.4: active boundary particles). */
+void nbr_build_bf(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *l,
+                  uint32_t *active, size_t *nactive);
+/* Boundary -> boundary neighbours (self included), for set-up only. */
+void nbr_build_bb(const nbr_grid *g, const sl_boundary *b, nbr_list *l);
+
+/* Total entries of a list (for statistics). */
+static inline size_t nbr_list_size(const nbr_list *l) { return l->n ? l->start[l->n] : 0; }
+
+#endif

@@ -1,0 +1,157 @@
+/* particles: growth and permutation of the SoA particle sets (see particles.h). */
+#include "particles/particles.h"
+#include "core/sl_mem.h"
+
+#include <string.h>
+
+#define FLUID_DOUBLES 17
+#define BOUNDARY_DOUBLES 10
+
+static void fluid_doubles(sl_fluid *f, double **a[FLUID_DOUBLES])
+{
+    double **list[FLUID_DOUBLES] = {
+        &f->x, &f->y, &f->z, &f->vx, &f->vy, &f->vz, &f->xs, &f->ys, &f->zs,
+        &f->ax, &f->ay, &f->az, &f->apx, &f->apy, &f->apz, &f->rho, &f->p};
+    memcpy(a, list, sizeof list);
+}
+
+static void grow_double(double **p, size_t n, size_t cap)
+{
+    double *q = sl_alloc_aligned(cap * sizeof *q, "particle field");
+    if (*p) memcpy(q, *p, n * sizeof *q);
+    sl_free_aligned(*p);
+    *p = q;
+}
+
+static void grow_u32(uint32_t **p, size_t n, size_t cap)
+{
+    uint32_t *q = sl_alloc_aligned(cap * sizeof *q, "particle field");
+    if (*p) memcpy(q, *p, n * sizeof *q);
+    sl_free_aligned(*p);
+    *p = q;
+}
+
+void prt_fluid_init(sl_fluid *f) { memset(f, 0, sizeof *f); }
+
+void prt_fluid_reserve(sl_fluid *f, size_t cap)
+{
+    double **a[FLUID_DOUBLES];
+    if (cap <= f->cap) return;
+    fluid_doubles(f, a);
+    for (int k = 0; k < FLUID_DOUBLES; k++) grow_double(a[k], f->n, cap);
+    grow_u32(&f->id, f->n, cap);
+    grow_u32(&f->cell, f->n, cap);
+    grow_double(&f->scratch, 0, cap);
+    grow_u32(&f->scratch_u, 0, cap);
+    f->cap = cap;
+}
+
+void prt_fluid_free(sl_fluid *f)
+{
+    double **a[FLUID_DOUBLES];
+    fluid_doubles(f, a);
+    for (int k = 0; k < FLUID_DOUBLES; k++) sl_free_aligned(*a[k]);
+    sl_free_aligned(f->id);
+    sl_free_aligned(f->cell);
+    sl_free_aligned(f->scratch);
+    sl_free_aligned(f->scratch_u);
+    memset(f, 0, sizeof *f);
+}
+
+void prt_fluid_push(sl_fluid *f, double x, double y, double z,
+                    double vx, double vy, double vz)
+{
+    if (f->n == f->cap) prt_fluid_reserve(f, f->cap ? 2 * f->cap : 1024);
+    size_t i = f->n++;
+    f->x[i] = x; f->y[i] = y; f->z[i] = z;
+    f->vx[i] = vx; f->vy[i] = vy; f->vz[i] = vz;
+    f->xs[i] = x; f->ys[i] = y; f->zs[i] = z;
+    f->ax[i] = f->ay[i] = f->az[i] = 0.0;
+    f->apx[i] = f->apy[i] = f->apz[i] = 0.0;
+    f->rho[i] = 0.0;
+    f->p[i] = 0.0;
+    f->id[i] = (uint32_t)i;
+    f->cell[i] = 0;
+}
+
+static void permute_double(double *restrict a, double *restrict tmp,
+                           const uint32_t *restrict perm, size_t n)
+{
+#pragma omp parallel for schedule(static)
+    for (size_t i = 0; i < n; i++) tmp[i] = a[perm[i]];
+    memcpy(a, tmp, n * sizeof *a);
+}
+
+static void permute_u32(uint32_t *restrict a, uint32_t *restrict tmp,
+                        const uint32_t *restrict perm, size_t n)
+{
+#pragma omp parallel for schedule(static)
+    for (size_t i = 0; i < n; i++) tmp[i] = a[perm[i]];
+    memcpy(a, tmp, n * sizeof *a);
+}
+
+void prt_fluid_permute(sl_fluid *f, const uint32_t *perm)
+{
+    double **a[FLUID_DOUBLES];
+    fluid_doubles(f, a);
+    for (int k = 0; k < FLUID_DOUBLES; k++) permute_double(*a[k], f->scratch, perm, f->n);
+    permute_u32(f->id, f->scratch_u, perm, f->n);
+    permute_u32(f->cell, f->scratch_u, perm, f->n);
+}
+
+/* ---- boundary ---- */
+
+static void boundary_doubles(sl_boundary *b, double **a[BOUNDARY_DOUBLES])
+{
+    double **list[BOUNDARY_DOUBLES] = {&b->x, &b->y, &b->z, &b->nx, &b->ny, &b->nz,
+                                       &b->mass, &b->rho_static, &b->rho, &b->p};
+    memcpy(a, list, sizeof list);
+}
+
+void prt_boundary_init(sl_boundary *b) { memset(b, 0, sizeof *b); }
+
+void prt_boundary_reserve(sl_boundary *b, size_t cap)
+{
+    double **a[BOUNDARY_DOUBLES];
+    if (cap <= b->cap) return;
+    boundary_doubles(b, a);
+    for (int k = 0; k < BOUNDARY_DOUBLES; k++) grow_double(a[k], b->n, cap);
+    grow_u32(&b->body, b->n, cap);
+    b->cap = cap;
+}
+
+void prt_boundary_free(sl_boundary *b)
+{
+    double **a[BOUNDARY_DOUBLES];
+    boundary_doubles(b, a);
+    for (int k = 0; k < BOUNDARY_DOUBLES; k++) sl_free_aligned(*a[k]);
+    sl_free_aligned(b->body);
+    memset(b, 0, sizeof *b);
+}
+
+void prt_boundary_push(sl_boundary *b, double x, double y, double z,
+                       double nx, double ny, double nz, uint32_t body)
+{
+    if (b->n == b->cap) prt_boundary_reserve(b, b->cap ? 2 * b->cap : 1024);
+    size_t i = b->n++;
+    b->x[i] = x; b->y[i] = y; b->z[i] = z;
+    b->nx[i] = nx; b->ny[i] = ny; b->nz[i] = nz;
+    b->mass[i] = 0.0;
+    b->rho_static[i] = 0.0;
+    b->rho[i] = 0.0;
+    b->p[i] = 0.0;
+    b->body[i] = body;
+}
+
+void prt_boundary_permute(sl_boundary *b, const uint32_t *perm)
+{
+    double **a[BOUNDARY_DOUBLES];
+    size_t n = b->n;
+    double *tmp = sl_alloc_aligned(n * sizeof *tmp, "boundary permutation");
+    uint32_t *tmpu = sl_alloc_aligned(n * sizeof *tmpu, "boundary permutation");
+    boundary_doubles(b, a);
+    for (int k = 0; k < BOUNDARY_DOUBLES; k++) permute_double(*a[k], tmp, perm, n);
+    permute_u32(b->body, tmpu, perm, n);
+    sl_free_aligned(tmp);
+    sl_free_aligned(tmpu);
+}

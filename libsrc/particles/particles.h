@@ -1,0 +1,62 @@
+/*
+ * particles: the particle sets as structure of arrays.
+ *
+ * sl_fluid holds every per-particle field of the fluid; the solver keeps it
+ * sorted by grid cell (Z-order of cells, see neighbours/) by permuting all
+ * arrays together with prt_fluid_permute().  Arrays are 64-byte aligned.
+ * Capacity grows on demand (prt_fluid_reserve); nothing is silently capped.
+ *
+ * sl_boundary holds the boundary particles of the paper's Sec. 3.2: position,
+ * normal (pointing into the fluid), mass m_b, the static part of the density
+ * (from other boundary particles), and density and pressure, which take part
+ * in the pressure solve (eq. 13).
+ */
+#ifndef SL_PARTICLES_H
+#define SL_PARTICLES_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct sl_fluid {
+    size_t n, cap;
+    double *x, *y, *z;        /* position at t */
+    double *vx, *vy, *vz;     /* velocity at t */
+    double *xs, *ys, *zs;     /* predicted position x*(t + dt) */
+    double *ax, *ay, *az;     /* non-pressure acceleration (gravity, viscosity, ...) */
+    double *apx, *apy, *apz;  /* pressure acceleration F^p / m */
+    double *rho;              /* (predicted) density */
+    double *p;                /* pressure */
+    uint32_t *id;             /* stable particle id */
+    uint32_t *cell;           /* grid cell (scratch for sorting) */
+    double *scratch;          /* permutation scratch, cap doubles */
+    uint32_t *scratch_u;      /* permutation scratch, cap uint32 */
+} sl_fluid;
+
+typedef struct sl_boundary {
+    size_t n, cap;
+    double *x, *y, *z;
+    double *nx, *ny, *nz;     /* unit normal into the fluid */
+    double *mass;             /* m_b */
+    double *rho_static;       /* sum over boundary neighbours of m_k W_bk */
+    double *rho;              /* predicted density (eq. 13) */
+    double *p;                /* pressure */
+    uint32_t *body;           /* index of the geometry body it samples */
+} sl_boundary;
+
+void prt_fluid_init(sl_fluid *f);
+void prt_fluid_reserve(sl_fluid *f, size_t cap);
+void prt_fluid_free(sl_fluid *f);
+/* Append a particle at rest-state fields (p = 0, rho = 0). */
+void prt_fluid_push(sl_fluid *f, double x, double y, double z,
+                    double vx, double vy, double vz);
+/* Reorder every per-particle array so that new[i] = old[perm[i]]. */
+void prt_fluid_permute(sl_fluid *f, const uint32_t *perm);
+
+void prt_boundary_init(sl_boundary *b);
+void prt_boundary_reserve(sl_boundary *b, size_t cap);
+void prt_boundary_free(sl_boundary *b);
+void prt_boundary_push(sl_boundary *b, double x, double y, double z,
+                       double nx, double ny, double nz, uint32_t body);
+void prt_boundary_permute(sl_boundary *b, const uint32_t *perm);
+
+#endif

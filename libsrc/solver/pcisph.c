@@ -1,0 +1,306 @@
+/* pcisph: the PCISPH step of Algorithm 2 (see pcisph.h). */
+#include "solver/pcisph.h"
+#include "core/sl_log.h"
+#include "core/sl_mem.h"
+#include "core/sl_reduce.h"
+
+#include <math.h>
+#include <omp.h>
+#include <string.h>
+
+double pcs_delta(const krn_kernel *k, double r0, double mass, double rho0, double dt)
+{
+    double gx = 0, gy = 0, gz = 0, gg = 0;
+    int reach = (int)ceil(k->h / r0) + 1;
+    for (int i = -reach; i <= reach; i++)
+        for (int j = -reach; j <= reach; j++)
+            for (int l = -reach; l <= reach; l++) {
+                double x = i * r0, y = j * r0, z = l * r0;
+                double r = sqrt(x * x + y * y + z * z);
+                double f = krn_gradf(k, r);
+                gx += f * x; gy += f * y; gz += f * z;
+                gg += f * f * (x * x + y * y + z * z);
+            }
+    double beta = 2.0 * (mass * dt / rho0) * (mass * dt / rho0);        /* eq. (5) */
+    return -1.0 / (beta * (-(gx * gx + gy * gy + gz * gz) - gg));        /* eq. (4) */
+}
+
+void pcs_set_dt(pcs_solver *s, double dt)
+{
+    s->dt = dt;
+    s->beta = 2.0 * (s->mass * dt / s->prm.rho0) * (s->mass * dt / s->prm.rho0);
+    s->delta = pcs_delta(&s->k, s->prm.r0, s->mass, s->prm.rho0, dt);
+}
+
+void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b,
+              const double lo[3], const double hi[3], double dt)
+{
+    memset(s, 0, sizeof *s);
+    s->prm = *p;
+    s->h = 2.0 * p->r0;
+    s->mass = p->rho0 * p->r0 * p->r0 * p->r0;
+    s->eta_abs = p->eta * p->rho0;
+    s->f = f;
+    s->b = b;
+    krn_init(&s->k, s->h);
+    size_t max_cells = 8 * (f->n + b->n) + ((size_t)1 << 20);
+    nbr_grid_init(&s->grid, lo, hi, s->h, max_cells);
+    nbr_list_init(&s->ff);
+    nbr_list_init(&s->fb);
+    nbr_list_init(&s->bf);
+    nbr_sort_boundary(&s->grid, b);
+    s->cal = bnd_calibrate(&s->k, p->r0, s->mass, p->rho0);
+    bnd_set_mass(&s->grid, &s->k, &s->cal, p->rho0, b);
+    s->active = sl_alloc_aligned((b->n + 1) * sizeof *s->active, "active boundary list");
+    pcs_set_dt(s, dt);
+}
+
+void pcs_free(pcs_solver *s)
+{
+    nbr_grid_free(&s->grid);
+    nbr_list_free(&s->ff);
+    nbr_list_free(&s->fb);
+    nbr_list_free(&s->bf);
+    sl_free_aligned(s->active);
+    sl_free_aligned(s->err);
+    memset(s, 0, sizeof *s);
+}
+
+static void ensure_scratch(pcs_solver *s)
+{
+    if (s->err_cap < s->f->cap) {
+        sl_free_aligned(s->err);
+        s->err = sl_alloc_aligned(s->f->cap * sizeof *s->err, "density error");
+        s->err_cap = s->f->cap;
+    }
+}
+
+/* ---- the phases of Algorithm 2 ---- */
+
+static void find_neighbours(pcs_solver *s)
+{
+    nbr_sort_fluid(&s->grid, s->f);
+    nbr_build_ff(&s->grid, s->f, &s->ff);
+    nbr_build_fb(&s->grid, s->f, s->b, &s->fb);
+    nbr_build_bf(&s->grid, s->f, s->b, &s->bf, s->active, &s->nactive);
+}
+
+/* Non-pressure forces per unit mass; zero pressure and pressure force. */
+static void compute_forces(pcs_solver *s)
+{
+    sl_fluid *f = s->f;
+    const double gx = s->prm.gravity[0], gy = s->prm.gravity[1], gz = s->prm.gravity[2];
+#pragma omp parallel for schedule(static)
+    for (size_t i = 0; i < f->n; i++) {
+        f->ax[i] = gx;
+        f->ay[i] = gy;
+        f->az[i] = gz;
+        f->apx[i] = f->apy[i] = f->apz[i] = 0.0;
+        f->p[i] = 0.0;
+    }
+    const uint32_t *act = s->active;
+    double *pb = s->b->p;
+#pragma omp parallel for schedule(static)
+    for (size_t q = 0; q < s->nactive; q++) pb[act[q]] = 0.0;
+}
+
+static void predict_positions(pcs_solver *s)
+{
+    sl_fluid *f = s->f;
+    const double dt = s->dt;
+#pragma omp parallel for schedule(static)
+    for (size_t i = 0; i < f->n; i++) {
+        double vx = f->vx[i] + dt * (f->ax[i] + f->apx[i]);
+        double vy = f->vy[i] + dt * (f->ay[i] + f->apy[i]);
+        double vz = f->vz[i] + dt * (f->az[i] + f->apz[i]);
+        f->xs[i] = f->x[i] + dt * vx;
+        f->ys[i] = f->y[i] + dt * vy;
+        f->zs[i] = f->z[i] + dt * vz;
+    }
+    bnd_collide(&s->fb, s->b, s->prm.r0, s->prm.epsilon, f->n, f->xs, f->ys, f->zs,
+                NULL, NULL, NULL);
+}
+
+/* Predicted density of fluid and active boundary particles (eq. 13) and
+ * pressure update (eq. 3).  Fills s->err with each fluid particle's
+ * compression and returns the largest one (absolute units). */
+static double predict_density_pressure(pcs_solver *s)
+{
+    sl_fluid *f = s->f;
+    const sl_boundary *b = s->b;
+    const krn_kernel *k = &s->k;
+    const double m = s->mass, rho0 = s->prm.rho0, delta = s->delta;
+    const double self = m * krn_w(k, 0.0);
+    double emax = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : emax)
+    for (size_t i = 0; i < f->n; i++) {
+        const double xi = f->xs[i], yi = f->ys[i], zi = f->zs[i];
+        double sf = 0.0, sb = 0.0;
+        for (uint32_t q = s->ff.start[i]; q < s->ff.start[i + 1]; q++) {
+            uint32_t j = s->ff.idx[q];
+            double dx = xi - f->xs[j], dy = yi - f->ys[j], dz = zi - f->zs[j];
+            sf += krn_w(k, sqrt(dx * dx + dy * dy + dz * dz));
+        }
+        for (uint32_t q = s->fb.start[i]; q < s->fb.start[i + 1]; q++) {
+            uint32_t j = s->fb.idx[q];
+            double dx = xi - b->x[j], dy = yi - b->y[j], dz = zi - b->z[j];
+            sb += b->mass[j] * krn_w(k, sqrt(dx * dx + dy * dy + dz * dz));
+        }
+        double rho = self + m * sf + sb;
+        double e = rho - rho0;
+        double p = f->p[i] + delta * e; /* eq. (3) */
+        f->rho[i] = rho;
+        f->p[i] = p > 0.0 ? p : 0.0;
+        double c = e > 0.0 ? e : 0.0;
+        s->err[i] = c;
+        if (c > emax) emax = c;
+    }
+    sl_boundary *bw = s->b;
+#pragma omp parallel for schedule(static)
+    for (size_t q = 0; q < s->nactive; q++) {
+        const uint32_t i = s->active[q];
+        const double xi = b->x[i], yi = b->y[i], zi = b->z[i];
+        double sf = 0.0;
+        for (uint32_t r = s->bf.start[i]; r < s->bf.start[i + 1]; r++) {
+            uint32_t j = s->bf.idx[r];
+            double dx = xi - f->xs[j], dy = yi - f->ys[j], dz = zi - f->zs[j];
+            sf += krn_w(k, sqrt(dx * dx + dy * dy + dz * dz));
+        }
+        double rho = b->rho_static[i] + m * sf; /* eq. (13) for a boundary particle */
+        double p = bw->p[i] + delta * (rho - rho0);
+        bw->rho[i] = rho;
+        bw->p[i] = p > 0.0 ? p : 0.0;
+    }
+    return emax;
+}
+
+/* Pressure force per unit mass, eq. (6), over fluid and boundary neighbours. */
+static void pressure_force(pcs_solver *s)
+{
+    sl_fluid *f = s->f;
+    const sl_boundary *b = s->b;
+    const krn_kernel *k = &s->k;
+    const double m = s->mass;
+#pragma omp parallel for schedule(static)
+    for (size_t i = 0; i < f->n; i++) {
+        const double xi = f->xs[i], yi = f->ys[i], zi = f->zs[i];
+        const double pi = f->p[i] / (f->rho[i] * f->rho[i]);
+        double ax = 0, ay = 0, az = 0;
+        for (uint32_t q = s->ff.start[i]; q < s->ff.start[i + 1]; q++) {
+            uint32_t j = s->ff.idx[q];
+            double dx = xi - f->xs[j], dy = yi - f->ys[j], dz = zi - f->zs[j];
+            double g = krn_gradf(k, sqrt(dx * dx + dy * dy + dz * dz));
+            double c = m * (pi + f->p[j] / (f->rho[j] * f->rho[j])) * g;
+            ax -= c * dx;
+            ay -= c * dy;
+            az -= c * dz;
+        }
+        for (uint32_t q = s->fb.start[i]; q < s->fb.start[i + 1]; q++) {
+            uint32_t j = s->fb.idx[q];
+            double dx = xi - b->x[j], dy = yi - b->y[j], dz = zi - b->z[j];
+            double g = krn_gradf(k, sqrt(dx * dx + dy * dy + dz * dz));
+            double pb = b->rho[j] > 0.0 ? b->p[j] / (b->rho[j] * b->rho[j]) : 0.0;
+            double c = b->mass[j] * (pi + pb) * g;
+            ax -= c * dx;
+            ay -= c * dy;
+            az -= c * dz;
+        }
+        f->apx[i] = ax;
+        f->apy[i] = ay;
+        f->apz[i] = az;
+    }
+}
+
+/* Euler-Cromer, then the world collision (eq. 11, 12); vmax and fmax. */
+static void integrate(pcs_solver *s, pcs_stats *st)
+{
+    sl_fluid *f = s->f;
+    const double dt = s->dt;
+    double v2max = 0.0, f2max = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : f2max)
+    for (size_t i = 0; i < f->n; i++) {
+        double ax = f->ax[i] + f->apx[i], ay = f->ay[i] + f->apy[i], az = f->az[i] + f->apz[i];
+        double a2 = ax * ax + ay * ay + az * az;
+        if (a2 > f2max) f2max = a2;
+        f->vx[i] += dt * ax;
+        f->vy[i] += dt * ay;
+        f->vz[i] += dt * az;
+        f->x[i] += dt * f->vx[i];
+        f->y[i] += dt * f->vy[i];
+        f->z[i] += dt * f->vz[i];
+    }
+    st->ncollide = bnd_collide(&s->fb, s->b, s->prm.r0, s->prm.epsilon, f->n, f->x, f->y, f->z,
+                               f->vx, f->vy, f->vz);
+#pragma omp parallel for schedule(static) reduction(max : v2max)
+    for (size_t i = 0; i < f->n; i++) {
+        double v2 = f->vx[i] * f->vx[i] + f->vy[i] * f->vy[i] + f->vz[i] * f->vz[i];
+        if (v2 > v2max) v2max = v2;
+    }
+    st->vmax = sqrt(v2max);
+    st->fmax = sqrt(f2max);
+}
+
+void pcs_step(pcs_solver *s, pcs_stats *st)
+{
+    sl_fluid *f = s->f;
+    const double rho0 = s->prm.rho0;
+    const double inv_n = f->n ? 1.0 / (double)f->n : 0.0;
+    double t0 = omp_get_wtime(), t1;
+    memset(st, 0, sizeof *st);
+    ensure_scratch(s);
+
+    find_neighbours(s);
+    t1 = omp_get_wtime(); s->time.search += t1 - t0; t0 = t1;
+    compute_forces(s);
+    t1 = omp_get_wtime(); s->time.forces += t1 - t0; t0 = t1;
+
+    int k = 0;
+    double emax;
+    for (;;) {
+        predict_positions(s);
+        t1 = omp_get_wtime(); s->time.predict += t1 - t0; t0 = t1;
+        emax = predict_density_pressure(s);
+        if (k == 0) {
+            st->err_max_before = emax / rho0;
+            st->err_avg_before = sl_sum(s->err, f->n) * inv_n / rho0;
+        }
+        t1 = omp_get_wtime(); s->time.density += t1 - t0; t0 = t1;
+        pressure_force(s);
+        t1 = omp_get_wtime(); s->time.pressure += t1 - t0; t0 = t1;
+        k++;
+        if (k >= s->prm.max_iter) break;
+        if (k >= s->prm.min_iter && emax <= s->eta_abs) break;
+    }
+    st->iterations = k;
+    st->converged = emax <= s->eta_abs;
+    st->err_max = emax / rho0;
+    st->err_avg = sl_sum(s->err, f->n) * inv_n / rho0;
+    st->nactive = s->nactive;
+
+    integrate(s, st);
+    t1 = omp_get_wtime(); s->time.integrate += t1 - t0;
+}
+
+void pcs_compute_density(pcs_solver *s)
+{
+    sl_fluid *f = s->f;
+    const sl_boundary *b = s->b;
+    const krn_kernel *k = &s->k;
+    const double m = s->mass, self = m * krn_w(k, 0.0);
+    find_neighbours(s);
+#pragma omp parallel for schedule(static)
+    for (size_t i = 0; i < f->n; i++) {
+        double sf = 0.0, sb = 0.0;
+        for (uint32_t q = s->ff.start[i]; q < s->ff.start[i + 1]; q++) {
+            uint32_t j = s->ff.idx[q];
+            double dx = f->x[i] - f->x[j], dy = f->y[i] - f->y[j], dz = f->z[i] - f->z[j];
+            sf += krn_w(k, sqrt(dx * dx + dy * dy + dz * dz));
+        }
+        for (uint32_t q = s->fb.start[i]; q < s->fb.start[i + 1]; q++) {
+            uint32_t j = s->fb.idx[q];
+            double dx = f->x[i] - b->x[j], dy = f->y[i] - b->y[j], dz = f->z[i] - b->z[j];
+            sb += b->mass[j] * krn_w(k, sqrt(dx * dx + dy * dy + dz * dz));
+        }
+        f->rho[i] = self + m * sf + sb;
+    }
+}

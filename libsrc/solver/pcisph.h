@@ -1,0 +1,89 @@
+/*
+ * pcisph: one time step of PCISPH (Solenthaler & Pajarola 2009) with the
+ * boundary handling of Ihmsen et al. 2010, as in the paper's Algorithm 2:
+ *
+ *   find neighbours (fluid and boundary)
+ *   compute non-pressure forces; p = 0, F^p = 0 for fluid and boundary
+ *   repeat (at least min_iter times, until max rho_err* <= eta or max_iter):
+ *       predict velocity and position; predict world collision (eq. 9-11)
+ *       predict density of fluid and boundary particles (eq. 13),
+ *       update their pressure p += delta rho_err* (eq. 3)
+ *       compute the pressure force (eq. 6, boundary pressures included)
+ *   integrate (Euler-Cromer); world collision (eq. 11, 12)
+ *
+ * Negative pressure: a particle at the free surface has a deficient
+ * neighbourhood and a predicted density below rho0; its pressure would
+ * pull the surface together (tensile instability).  We clamp pressures at
+ * zero after each update, as SPlisHSPlasH and most PCISPH codes do.  The
+ * density error statistics count compression only: max(rho - rho0, 0).
+ */
+#ifndef SL_PCISPH_H
+#define SL_PCISPH_H
+
+#include <stddef.h>
+
+#include "boundary/boundary.h"
+#include "kernel/kernel.h"
+#include "neighbours/neighbours.h"
+#include "particles/particles.h"
+
+typedef struct pcs_params {
+    double rho0;          /* rest density */
+    double r0;            /* particle spacing; h = 2 r0 */
+    double gravity[3];
+    double eta;           /* tolerated density error, fraction of rho0 (0.01 = 1 %) */
+    int min_iter, max_iter;
+    double epsilon;       /* eq. (12): tangential velocity kept on contact */
+} pcs_params;
+
+/* What one step did (logged every step). Errors are fractions of rho0. */
+typedef struct pcs_stats {
+    int iterations;
+    int converged;           /* max error <= eta at exit */
+    double err_avg_before, err_max_before;  /* first prediction (p = 0) */
+    double err_avg, err_max;                /* last prediction */
+    double vmax;             /* max |v(t + dt)| */
+    double fmax;             /* max |F/m| (all forces) */
+    size_t nactive;          /* active boundary particles */
+    size_t ncollide;         /* fluid particles corrected by the final collision */
+} pcs_stats;
+
+/* Wall-clock seconds spent in each phase (accumulated). */
+typedef struct pcs_timers {
+    double search, forces, predict, density, pressure, integrate;
+} pcs_timers;
+
+typedef struct pcs_solver {
+    pcs_params prm;
+    double h, mass, dt, beta, delta, eta_abs;
+    krn_kernel k;
+    bnd_calibration cal;
+    sl_fluid *f;
+    sl_boundary *b;
+    nbr_grid grid;
+    nbr_list ff, fb, bf;
+    uint32_t *active;
+    size_t nactive;
+    double *err;           /* per-fluid-particle compression (scratch) */
+    size_t err_cap;
+    pcs_timers time;
+} pcs_solver;
+
+/* delta of eq. (4) for a prototype particle with a filled neighbourhood
+ * on a cubic lattice of spacing r0, with beta of eq. (5). */
+double pcs_delta(const krn_kernel *k, double r0, double mass, double rho0, double dt);
+
+/* Set up: grid over [lo, hi], boundary sorted and its masses set,
+ * fluid sorted, delta for dt.  The solver keeps pointers to f and b. */
+void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b,
+              const double lo[3], const double hi[3], double dt);
+void pcs_free(pcs_solver *s);
+/* Change the time step; recomputes beta and delta (eq. 4, 5). */
+void pcs_set_dt(pcs_solver *s, double dt);
+/* Advance by s->dt. */
+void pcs_step(pcs_solver *s, pcs_stats *st);
+/* Density of every fluid particle from the current positions x(t) (for
+ * output; uses the lists of the last step or rebuilds them). */
+void pcs_compute_density(pcs_solver *s);
+
+#endif

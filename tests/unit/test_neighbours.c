@@ -1,0 +1,173 @@
+/* Unit tests: grid neighbour search against brute force, Z-order sorting,
+ * clamping of particles outside the grid, and identical lists for any
+ * thread count. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <gsl/gsl_rng.h>
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "neighbours/neighbours.h"
+
+#define NF 3000
+#define NB 1500
+
+typedef struct world {
+    sl_fluid f;
+    sl_boundary b;
+    nbr_grid g;
+    double h;
+} world;
+
+/* Random fluid in [0,1]^3 plus 5 % outside the grid box; boundary on the
+ * faces of the unit cube. */
+static void make_world(world *w)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 42);
+    prt_fluid_init(&w->f);
+    prt_boundary_init(&w->b);
+    for (int i = 0; i < NF; i++) {
+        double s = i % 20 == 0 ? 3.0 : 1.0; /* some far outside */
+        prt_fluid_push(&w->f, s * gsl_rng_uniform(r) - (s - 1) / 2, s * gsl_rng_uniform(r),
+                       gsl_rng_uniform(r), 0, 0, 0);
+    }
+    for (int i = 0; i < NB; i++) {
+        double x = gsl_rng_uniform(r), y = gsl_rng_uniform(r);
+        prt_boundary_push(&w->b, x, y, i % 2 ? 0.0 : 1.0, 0, 0, i % 2 ? 1.0 : -1.0, 0);
+    }
+    gsl_rng_free(r);
+    w->h = 0.07;
+    double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
+    nbr_grid_init(&w->g, lo, hi, w->h, 1u << 20);
+    nbr_sort_boundary(&w->g, &w->b);
+    nbr_sort_fluid(&w->g, &w->f);
+}
+
+static void free_world(world *w)
+{
+    prt_fluid_free(&w->f);
+    prt_boundary_free(&w->b);
+    nbr_grid_free(&w->g);
+}
+
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* Compare row i of l (as a set) with the brute-force neighbours. */
+static void check_row(const nbr_list *l, size_t i, const double p[3], const double *x,
+                      const double *y, const double *z, size_t n, double h, size_t self)
+{
+    uint32_t *want = malloc(n * sizeof *want), cnt = 0;
+    for (size_t j = 0; j < n; j++) {
+        double dx = p[0] - x[j], dy = p[1] - y[j], dz = p[2] - z[j];
+        if (j != self && dx * dx + dy * dy + dz * dz < h * h) want[cnt++] = (uint32_t)j;
+    }
+    uint32_t got_n = l->start[i + 1] - l->start[i];
+    assert_int_equal(got_n, cnt);
+    uint32_t *got = malloc((got_n + 1) * sizeof *got);
+    memcpy(got, l->idx + l->start[i], got_n * sizeof *got);
+    qsort(got, got_n, sizeof *got, cmp_u32);
+    for (uint32_t q = 0; q < cnt; q++) assert_int_equal(got[q], want[q]);
+    free(got);
+    free(want);
+}
+
+static void test_fluid_fluid_brute_force(void **state)
+{
+    (void)state;
+    world w;
+    make_world(&w);
+    nbr_list l;
+    nbr_list_init(&l);
+    nbr_build_ff(&w.g, &w.f, &l);
+    size_t total = 0;
+    for (size_t i = 0; i < w.f.n; i++) {
+        double p[3] = {w.f.x[i], w.f.y[i], w.f.z[i]};
+        check_row(&l, i, p, w.f.x, w.f.y, w.f.z, w.f.n, w.h, i);
+        total += l.start[i + 1] - l.start[i];
+    }
+    assert_true(total > 3 * NF); /* the test has neighbours to find (~4 each) */
+    nbr_list_free(&l);
+    free_world(&w);
+}
+
+static void test_fluid_boundary_brute_force(void **state)
+{
+    (void)state;
+    world w;
+    make_world(&w);
+    nbr_list fb, bf;
+    nbr_list_init(&fb);
+    nbr_list_init(&bf);
+    uint32_t *active = malloc(w.b.n * sizeof *active);
+    size_t nact = 0, with = 0;
+    nbr_build_fb(&w.g, &w.f, &w.b, &fb);
+    nbr_build_bf(&w.g, &w.f, &w.b, &bf, active, &nact);
+    for (size_t i = 0; i < w.f.n; i++) {
+        double p[3] = {w.f.x[i], w.f.y[i], w.f.z[i]};
+        check_row(&fb, i, p, w.b.x, w.b.y, w.b.z, w.b.n, w.h, SIZE_MAX);
+    }
+    for (size_t i = 0; i < w.b.n; i++) {
+        double p[3] = {w.b.x[i], w.b.y[i], w.b.z[i]};
+        check_row(&bf, i, p, w.f.x, w.f.y, w.f.z, w.f.n, w.h, SIZE_MAX);
+        with += bf.start[i + 1] > bf.start[i];
+    }
+    assert_int_equal(nact, with);
+    assert_true(nact > 0 && nact < w.b.n);
+    for (size_t q = 1; q < nact; q++) assert_true(active[q] > active[q - 1]);
+    free(active);
+    nbr_list_free(&fb);
+    nbr_list_free(&bf);
+    free_world(&w);
+}
+
+/* After sorting, particles are in non-decreasing cell rank order. */
+static void test_sorted_by_cell(void **state)
+{
+    (void)state;
+    world w;
+    make_world(&w);
+    for (size_t i = 1; i < w.f.n; i++) assert_true(w.f.cell[i] >= w.f.cell[i - 1]);
+    free_world(&w);
+}
+
+static void test_same_lists_any_thread_count(void **state)
+{
+    (void)state;
+    world w;
+    make_world(&w);
+    nbr_list a, b;
+    nbr_list_init(&a);
+    nbr_list_init(&b);
+    omp_set_num_threads(1);
+    nbr_build_ff(&w.g, &w.f, &a);
+    omp_set_num_threads(3);
+    nbr_build_ff(&w.g, &w.f, &b);
+    omp_set_num_threads(omp_get_num_procs());
+    assert_memory_equal(a.start, b.start, (w.f.n + 1) * sizeof *a.start);
+    assert_memory_equal(a.idx, b.idx, a.start[w.f.n] * sizeof *a.idx);
+    nbr_list_free(&a);
+    nbr_list_free(&b);
+    free_world(&w);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_fluid_fluid_brute_force),
+        cmocka_unit_test(test_fluid_boundary_brute_force),
+        cmocka_unit_test(test_sorted_by_cell),
+        cmocka_unit_test(test_same_lists_any_thread_count),
+    };
+    return cmocka_run_group_tests_name("neighbours", tests, NULL, NULL);
+}
