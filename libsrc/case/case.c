@@ -118,8 +118,41 @@ static void read_timestep(sl_case *c)
 /* ---- constant/fluidProperties ---- */
 
 static const char *const fluid_keys[] = {"rho0", "particleSpacing", "gravity", "eta",
-                                         "minIterations", "maxIterations", "fluidRegions",
-                                         NULL};
+                                         "minIterations", "maxIterations", "viscosity",
+                                         "fluidRegions", NULL};
+static const char *const viscosity_keys[] = {"alpha", "boundaryAlpha", "soundSpeed", "nu",
+                                             "boundaryNu", NULL};
+
+/* viscosity { alpha a; soundSpeed c; [boundaryAlpha ab;] }  or
+ * viscosity { nu n; [boundaryNu nb;] }: Becker & Teschner 2007, with
+ * alpha h c_s = 10 nu (see effects/viscosity.h). */
+static void read_viscosity(sl_case *c, const dict *v)
+{
+    sl_err err;
+    pcs_params *p = &c->prm;
+    const double h = 2.0 * p->r0;
+    dict_warn_unknown(v, viscosity_keys);
+    p->viscosity = 1;
+    if (dict_has(v, "nu")) {
+        double nu, nub;
+        need(dict_get_scalar(v, "nu", &nu, &err), &err);
+        if (!(nu >= 0.0)) bad_value(v, "nu", "must be zero or positive");
+        need(dict_get_scalar_or(v, "boundaryNu", 0.0, &nub, &err), &err);
+        if (!(nub >= 0.0)) bad_value(v, "boundaryNu", "must be zero or positive");
+        p->visc.coef = 10.0 * nu;
+        p->visc.coef_boundary = 10.0 * nub;
+        return;
+    }
+    double alpha, alphab, cs;
+    need(dict_get_scalar(v, "alpha", &alpha, &err), &err);
+    if (!(alpha >= 0.0 && alpha <= 10.0)) bad_value(v, "alpha", "must be in [0, 10]");
+    need(dict_get_scalar_or(v, "boundaryAlpha", 0.0, &alphab, &err), &err);
+    if (!(alphab >= 0.0 && alphab <= 10.0)) bad_value(v, "boundaryAlpha", "must be in [0, 10]");
+    need(dict_get_scalar(v, "soundSpeed", &cs, &err), &err);
+    positive(v, "soundSpeed", cs);
+    p->visc.coef = alpha * h * cs;
+    p->visc.coef_boundary = alphab * h * cs;
+}
 static const char *const region_keys[] = {"type", "min", "max", "velocity", NULL};
 
 static void read_region(sl_case *c, const dict *r)
@@ -166,6 +199,11 @@ static void read_fluid(sl_case *c)
     need(dict_get_int_or(d, "maxIterations", 100, &l, &err), &err);
     if (l < p->min_iter || l > 100000) bad_value(d, "maxIterations", "must be at least minIterations");
     p->max_iter = (int)l;
+    if (dict_has(d, "viscosity")) {
+        const dict *v = dict_sub(d, "viscosity");
+        if (!v) bad_value(d, "viscosity", "must be a dictionary { alpha ..; soundSpeed ..; } or { nu ..; }");
+        read_viscosity(c, v);
+    }
     const dict *regions = dict_sub(d, "fluidRegions");
     if (!regions) bad_value(d, "fluidRegions", "a dictionary of fluid regions is required");
     for (size_t i = 0; i < dict_size(regions); i++) {

@@ -98,6 +98,8 @@ static void compute_forces(pcs_solver *s)
         f->apx[i] = f->apy[i] = f->apz[i] = 0.0;
         f->p[i] = 0.0;
     }
+    if (s->prm.viscosity)
+        visc_apply(&s->prm.visc, &s->k, s->mass, s->prm.rho0, f, s->b, &s->ff, &s->fb);
     const uint32_t *act = s->active;
     double *pb = s->b->p;
 #pragma omp parallel for schedule(static)

@@ -23,6 +23,7 @@
 #include <stddef.h>
 
 #include "boundary/boundary.h"
+#include "effects/viscosity.h"
 #include "kernel/kernel.h"
 #include "neighbours/neighbours.h"
 #include "particles/particles.h"
@@ -34,6 +35,8 @@ typedef struct pcs_params {
     double eta;           /* tolerated density error, fraction of rho0 (0.01 = 1 %) */
     int min_iter, max_iter;
     double epsilon;       /* eq. (12): tangential velocity kept on contact */
+    int viscosity;        /* effect named by the case */
+    visc_params visc;
 } pcs_params;
 
 /* What one step did (logged every step). Errors are fractions of rho0. */
