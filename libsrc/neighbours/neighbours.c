@@ -55,18 +55,23 @@ void nbr_grid_init(nbr_grid *g, const double lo[3], const double hi[3], double h
     g->cell = cell;
     g->inv_cell = 1.0 / cell;
     g->h2 = h * h;
-    cell_key *keys = sl_malloc(g->ncells * sizeof *keys, "grid cell order");
+    /* Rows of cells along x stay contiguous (so that the three cells of a
+     * neighbourhood row form one particle range); the rows are ordered by
+     * the Morton code of (cy, cz). */
+    size_t nrows = (size_t)g->nc[1] * (size_t)g->nc[2];
+    cell_key *keys = sl_malloc(nrows * sizeof *keys, "grid row order");
     for (int cz = 0; cz < g->nc[2]; cz++)
-        for (int cy = 0; cy < g->nc[1]; cy++)
-            for (int cx = 0; cx < g->nc[0]; cx++) {
-                size_t lin = (size_t)cx + (size_t)g->nc[0] * ((size_t)cy + (size_t)g->nc[1] * (size_t)cz);
-                keys[lin].linear = (uint32_t)lin;
-                keys[lin].morton = spread_bits((uint64_t)cx) | spread_bits((uint64_t)cy) << 1 |
-                                   spread_bits((uint64_t)cz) << 2;
-            }
-    qsort(keys, g->ncells, sizeof *keys, cmp_cell_key);
+        for (int cy = 0; cy < g->nc[1]; cy++) {
+            size_t row = (size_t)cy + (size_t)g->nc[1] * (size_t)cz;
+            keys[row].linear = (uint32_t)row;
+            keys[row].morton = spread_bits((uint64_t)cy) | spread_bits((uint64_t)cz) << 1;
+        }
+    qsort(keys, nrows, sizeof *keys, cmp_cell_key);
     g->rank = sl_alloc_aligned(g->ncells * sizeof *g->rank, "grid ranks");
-    for (size_t k = 0; k < g->ncells; k++) g->rank[keys[k].linear] = (uint32_t)k;
+    for (size_t k = 0; k < nrows; k++)
+        for (int cx = 0; cx < g->nc[0]; cx++)
+            g->rank[(size_t)cx + (size_t)g->nc[0] * keys[k].linear] =
+                (uint32_t)(k * (size_t)g->nc[0] + (size_t)cx);
     free(keys);
     g->fstart = sl_alloc_aligned((g->ncells + 1) * sizeof *g->fstart, "grid cells");
     g->bstart = sl_alloc_aligned((g->ncells + 1) * sizeof *g->bstart, "grid cells");
@@ -181,43 +186,47 @@ static void list_prepare(nbr_list *l, size_t rows)
     l->n = rows;
 }
 
-static inline void buf_push(nbr_list *l, int t, uint32_t j)
+/* Make room for `extra` more entries in thread t's buffer. */
+static inline void buf_reserve(nbr_list *l, int t, size_t extra)
 {
-    if (l->tlen[t] == l->tcap[t]) {
-        size_t cap = l->tcap[t] ? 2 * l->tcap[t] : 4096;
+    if (l->tlen[t] + extra > l->tcap[t]) {
+        size_t cap = 2 * (l->tlen[t] + extra) + 4096;
         l->tbuf[t] = sl_realloc(l->tbuf[t], cap * sizeof *l->tbuf[t], "neighbour buffer");
         l->tcap[t] = cap;
     }
-    l->tbuf[t][l->tlen[t]++] = j;
 }
 
 /* Appends to thread t's buffer the particles of the target set within h of
- * (px, py, pz), skipping index `self`; returns how many were appended. */
+ * (px, py, pz), skipping index `self`; returns how many were appended.
+ * The three cells of each neighbourhood row along x are one contiguous
+ * range; candidates are written unconditionally and kept by advancing the
+ * length (branch-free compaction). */
 static uint32_t gather(const nbr_grid *g, nbr_list *l, int t, const uint32_t *start,
                        const double *tx, const double *ty, const double *tz,
                        double px, double py, double pz, uint32_t self)
 {
-    int c[3], d[3];
-    uint32_t found = 0;
+    int c[3];
+    const size_t len0 = l->tlen[t];
     cell_of(g, px, py, pz, c);
-    for (d[2] = c[2] - 1; d[2] <= c[2] + 1; d[2]++) {
-        if (d[2] < 0 || d[2] >= g->nc[2]) continue;
-        for (d[1] = c[1] - 1; d[1] <= c[1] + 1; d[1]++) {
-            if (d[1] < 0 || d[1] >= g->nc[1]) continue;
-            for (d[0] = c[0] - 1; d[0] <= c[0] + 1; d[0]++) {
-                if (d[0] < 0 || d[0] >= g->nc[0]) continue;
-                uint32_t k = rank_of(g, d);
-                for (uint32_t j = start[k]; j < start[k + 1]; j++) {
-                    double dx = px - tx[j], dy = py - ty[j], dz = pz - tz[j];
-                    if (dx * dx + dy * dy + dz * dz < g->h2 && j != self) {
-                        buf_push(l, t, j);
-                        found++;
-                    }
-                }
+    const int x0 = c[0] > 0 ? c[0] - 1 : 0, x1 = c[0] + 1 < g->nc[0] ? c[0] + 1 : g->nc[0] - 1;
+    for (int cz = c[2] - 1; cz <= c[2] + 1; cz++) {
+        if (cz < 0 || cz >= g->nc[2]) continue;
+        for (int cy = c[1] - 1; cy <= c[1] + 1; cy++) {
+            if (cy < 0 || cy >= g->nc[1]) continue;
+            int a[3] = {x0, cy, cz}, b[3] = {x1, cy, cz};
+            const uint32_t j0 = start[rank_of(g, a)], j1 = start[rank_of(g, b) + 1];
+            buf_reserve(l, t, j1 - j0);
+            uint32_t *restrict buf = l->tbuf[t];
+            size_t len = l->tlen[t];
+            for (uint32_t j = j0; j < j1; j++) {
+                double dx = px - tx[j], dy = py - ty[j], dz = pz - tz[j];
+                buf[len] = j;
+                len += (dx * dx + dy * dy + dz * dz < g->h2) & (j != self);
             }
+            l->tlen[t] = len;
         }
     }
-    return found;
+    return (uint32_t)(l->tlen[t] - len0);
 }
 
 /* Concatenate the thread buffers (thread order = particle order). */
