@@ -7,6 +7,7 @@
  */
 #include "case/case.h"
 #include "case/case_output.h"
+#include "case/case_record.h"
 #include "core/sl_log.h"
 #include "solver/pcisph.h"
 
@@ -82,6 +83,7 @@ int main(int argc, char **argv)
     sl_case c;
     pcs_solver s;
     case_output out;
+    case_record rec;
     run_totals tot = {0};
     case_read(&c, dir);
     if (c.ctl.nthreads > 0) omp_set_num_threads(c.ctl.nthreads);
@@ -94,6 +96,7 @@ int main(int argc, char **argv)
     double t = t0, next_write = t0;
     double wall0 = omp_get_wtime();
     out_init(&out, &c, t0);
+    rec_open(&rec, &c, t0);
     write_or_die(&out, &s, t);
     next_write = t0 + c.ctl.write_interval;
     while (t < t_end - tol) {
@@ -105,6 +108,7 @@ int main(int argc, char **argv)
         double ws = omp_get_wtime();
         pcs_step(&s, &st);
         t = (fabs(t + step - target) <= tol) ? target : t + step;
+        rec_step(&rec, t, step, &st, 0, omp_get_wtime() - ws);
         tot.steps++;
         tot.iterations += st.iterations;
         if (st.err_avg > tot.max_err_avg) tot.max_err_avg = st.err_avg;
@@ -141,6 +145,7 @@ int main(int argc, char **argv)
             tot.wall > 0 ? (double)c.fluid.n * (double)tot.steps / tot.wall : 0.0,
             omp_get_max_threads());
     sl_info("Open %s/fluid.pvd in ParaView.", c.dir);
+    rec_close(&rec);
     out_free(&out);
     pcs_free(&s);
     case_free(&c);

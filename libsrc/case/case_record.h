@@ -1,0 +1,27 @@
+/*
+ * case_record: the per-step record postProcessing/timeStep/<startTime>/
+ * timeStep.dat, in OpenFOAM's function-object format ('#' header lines, the
+ * last naming the columns, tab-separated values), so that gnuplot and
+ * OpenFOAM users' scripts read it as it is.
+ */
+#ifndef SL_CASE_RECORD_H
+#define SL_CASE_RECORD_H
+
+#include <stdio.h>
+
+#include "case/case.h"
+#include "solver/pcisph.h"
+
+typedef struct case_record {
+    FILE *f;
+    char *path;
+} case_record;
+
+/* Open (creating folders) the record for a run starting at start_time. */
+void rec_open(case_record *r, const sl_case *c, double start_time);
+/* One row: time after the step, its deltaT, the step's statistics, a
+ * shock flag and the step's wall-clock seconds. */
+void rec_step(case_record *r, double t, double dt, const pcs_stats *st, int shock, double wall);
+void rec_close(case_record *r);
+
+#endif

@@ -1,0 +1,142 @@
+/* Case tests: run bin/pcisph on the cases in tests/cases/ and check the
+ * results against analytic values (hydrostatics) and invariants (no NaN,
+ * no particle through a wall).  The written VTK files are read back with
+ * VTK by tests/cases/inspect_case.py. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAXV 64
+
+typedef struct facts {
+    int n;
+    char key[MAXV][32];
+    double val[MAXV];
+} facts;
+
+static const char *bin_dir(void)
+{
+    const char *b = getenv("SLUICE_BIN");
+    return b ? b : "bin";
+}
+
+/* Copy tests/cases/<name> to tests/output/<name> and run the solver there. */
+static int run_case(const char *name, const char *extra)
+{
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "rm -rf tests/output/%s && mkdir -p tests/output && cp -r tests/cases/%s tests/output/%s"
+             " && %s/pcisph -case tests/output/%s -quiet %s > tests/output/%s/log.pcisph 2>&1",
+             name, name, name, bin_dir(), name, extra ? extra : "", name);
+    return system(cmd);
+}
+
+static facts inspect(const char *name, const char *args)
+{
+    char cmd[1024], line[256];
+    facts f = {0};
+    snprintf(cmd, sizeof cmd, "/usr/bin/python3 tests/cases/inspect_case.py tests/output/%s %s",
+             name, args);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    while (fgets(line, sizeof line, p) && f.n < MAXV) {
+        char *eq = strchr(line, '=');
+        if (!eq) continue;
+        *eq = 0;
+        snprintf(f.key[f.n], sizeof f.key[f.n], "%.31s", line);
+        f.val[f.n] = strtod(eq + 1, NULL);
+        f.n++;
+    }
+    assert_int_equal(pclose(p), 0);
+    return f;
+}
+
+static double fact(const facts *f, const char *key)
+{
+    for (int i = 0; i < f->n; i++)
+        if (!strcmp(f->key[i], key)) return f->val[i];
+    fail_msg("inspect_case.py printed no '%s'", key);
+    return NAN;
+}
+
+/* Largest value of a column of postProcessing/timeStep/0/timeStep.dat over
+ * rows with time >= t_from. */
+static double record_max(const char *name, int column, double t_from)
+{
+    char path[512], line[512];
+    double m = -INFINITY;
+    snprintf(path, sizeof path, "tests/output/%s/postProcessing/timeStep/0/timeStep.dat", name);
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    int rows = 0;
+    while (fgets(line, sizeof line, f)) {
+        if (line[0] == '#') continue;
+        double v[9];
+        char *s = line;
+        for (int k = 0; k < 9; k++) v[k] = strtod(s, &s);
+        if (v[0] < t_from) continue;
+        if (!(v[column] <= m) ) m = v[column];
+        rows++;
+    }
+    fclose(f);
+    assert_true(rows > 0);
+    return m;
+}
+
+/* A 0.4 m column in a 0.3 x 0.3 m tank held for 1 s (eta = 1 %). */
+static void test_hydrostatic_tank(void **state)
+{
+    (void)state;
+    const double rho0 = 1000, g = 9.81, H = 0.4, r0 = 0.025;
+    assert_int_equal(run_case("hydrostaticTank", NULL), 0);
+    /* average density error below eta after the initial settling */
+    assert_true(record_max("hydrostaticTank", 3, 0.05) < 1.0);
+    /* bottom pressure within 10 % of rho0 g H, averaged over the last
+     * three writes (the column still breathes a little) */
+    double p = 0;
+    const char *times[3] = {"0.5", "0.75", "1"};
+    for (int k = 0; k < 3; k++) {
+        char args[128];
+        snprintf(args, sizeof args, "%s --r0 %g --lo 0 0 0 --hi 0.3 0.3 0.6", times[k], r0);
+        facts f = inspect("hydrostaticTank", args);
+        assert_int_equal((int)fact(&f, "nan"), 0);
+        assert_int_equal((int)fact(&f, "outside"), 0);
+        p += fact(&f, "p_bottom") / 3;
+        if (k == 2) {
+            /* nearly at rest: 5 % of the free-fall speed over H */
+            assert_true(fact(&f, "vmax") < 0.05 * sqrt(2 * g * H));
+        }
+    }
+    print_message("hydrostatic bottom pressure %.1f Pa, rho0 g H = %.1f Pa\n", p, rho0 * g * H);
+    assert_true(fabs(p - rho0 * g * H) < 0.1 * rho0 * g * H);
+}
+
+/* The damBreak tutorial (coarser) for 0.25 s: no NaN, no particle lost. */
+static void test_dam_break_short(void **state)
+{
+    (void)state;
+    assert_int_equal(run_case("damBreakShort", NULL), 0);
+    facts f = inspect("damBreakShort", "--lo 0 0 0 --hi 1.6 0.6 0.8");
+    assert_int_equal((int)fact(&f, "nan"), 0);
+    assert_int_equal((int)fact(&f, "outside"), 0);
+    assert_int_equal((int)fact(&f, "n"), 16 * 24 * 24); /* 0.4 x 0.6 x 0.6 at r0 = 0.025 */
+    /* the front has moved */
+    assert_true(fact(&f, "xmax") > 0.8);
+    assert_true(record_max("damBreakShort", 3, 0.0) < 1.0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_hydrostatic_tank),
+        cmocka_unit_test(test_dam_break_short),
+    };
+    return cmocka_run_group_tests_name("cases", tests, NULL, NULL);
+}
