@@ -5,6 +5,9 @@
 
 CC       ?= gcc
 MODE     ?= release
+# The release build is tuned for the build machine; ARCH=-march=x86-64-v3
+# (or -march=x86-64) gives a binary for other machines.
+ARCH     ?= -march=native
 ifeq ($(MODE),debug)
   BUILD  := build/debug
   BIN    := build/debug/bin
@@ -17,7 +20,7 @@ else
   # the kernels; -fassociative-math/-fno-signed-zeros let it vectorise the
   # neighbour sums.  Results stay deterministic for any thread count because
   # every per-particle sum is evaluated in the same order by one thread.
-  OPT    := -O3 -march=x86-64-v2 -g -fno-math-errno -fno-trapping-math \
+  OPT    := -O3 $(ARCH) -g -fno-math-errno -fno-trapping-math \
             -fassociative-math -fno-signed-zeros
   LDOPT  :=
 endif

@@ -5,6 +5,9 @@
 
 #include <math.h>
 #include <omp.h>
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
 #include <stdlib.h>
 #include <string.h>
 
@@ -36,7 +39,7 @@ void nbr_grid_init(nbr_grid *g, const double lo[3], const double hi[3], double h
                    size_t max_cells)
 {
     memset(g, 0, sizeof *g);
-    double cell = h;
+    double cell = h / NBR_CELLS_PER_H;
     for (;;) {
         size_t total = 1;
         for (int d = 0; d < 3; d++) {
@@ -48,12 +51,13 @@ void nbr_grid_init(nbr_grid *g, const double lo[3], const double hi[3], double h
         if (total <= max_cells || total < 64) { g->ncells = total; break; }
         cell *= 1.25;
     }
-    if (cell > h)
+    if (cell > h / NBR_CELLS_PER_H * 1.0000001)
         sl_warning("neighbour grid: scene too large for %zu cells of size h; "
                    "using cells of %g (h = %g): search is slower", max_cells, cell, h);
     for (int d = 0; d < 3; d++) g->lo[d] = lo[d];
     g->cell = cell;
     g->inv_cell = 1.0 / cell;
+    g->reach = (int)ceil(h / cell - 1e-9);
     g->h2 = h * h;
     /* Rows of cells along x stay contiguous (so that the three cells of a
      * neighbourhood row form one particle range); the rows are ordered by
@@ -196,6 +200,41 @@ static inline void buf_reserve(nbr_list *l, int t, size_t extra)
     }
 }
 
+/* Append to buf (at len) the indices j in [j0, j1) with |p - x_j|^2 < h2,
+ * j != self; returns the new length.  The candidates are contiguous in
+ * memory, so the distance test runs on vectors of them (AVX-512: with a
+ * compress-store of the accepted indices). */
+static inline size_t filter_range(uint32_t *restrict buf, size_t len, uint32_t j0, uint32_t j1,
+                                  uint32_t self, double px, double py, double pz,
+                                  const double *restrict tx, const double *restrict ty,
+                                  const double *restrict tz, double h2)
+{
+    uint32_t j = j0;
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+    const __m512d vpx = _mm512_set1_pd(px), vpy = _mm512_set1_pd(py), vpz = _mm512_set1_pd(pz);
+    const __m512d vh2 = _mm512_set1_pd(h2);
+    const __m256i step = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256i vself = _mm256_set1_epi32((int)self);
+    for (; j + 8 <= j1; j += 8) {
+        __m512d dx = _mm512_sub_pd(vpx, _mm512_loadu_pd(tx + j));
+        __m512d dy = _mm512_sub_pd(vpy, _mm512_loadu_pd(ty + j));
+        __m512d dz = _mm512_sub_pd(vpz, _mm512_loadu_pd(tz + j));
+        __m512d d2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
+        __m256i idx = _mm256_add_epi32(_mm256_set1_epi32((int)j), step);
+        __mmask8 keep = _mm512_cmp_pd_mask(d2, vh2, _CMP_LT_OQ) &
+                        (__mmask8)~_mm256_cmpeq_epi32_mask(idx, vself);
+        _mm256_mask_compressstoreu_epi32(buf + len, keep, idx);
+        len += (size_t)__builtin_popcount(keep);
+    }
+#endif
+    for (; j < j1; j++) {
+        const double dx = px - tx[j], dy = py - ty[j], dz = pz - tz[j];
+        buf[len] = j;
+        len += (dx * dx + dy * dy + dz * dz < h2) & (j != self);
+    }
+    return len;
+}
+
 /* Appends to thread t's buffer the particles of the target set within h of
  * (px, py, pz), skipping index `self`; returns how many were appended.
  * The three cells of each neighbourhood row along x are one contiguous
@@ -208,22 +247,17 @@ static uint32_t gather(const nbr_grid *g, nbr_list *l, int t, const uint32_t *st
     int c[3];
     const size_t len0 = l->tlen[t];
     cell_of(g, px, py, pz, c);
-    const int x0 = c[0] > 0 ? c[0] - 1 : 0, x1 = c[0] + 1 < g->nc[0] ? c[0] + 1 : g->nc[0] - 1;
-    for (int cz = c[2] - 1; cz <= c[2] + 1; cz++) {
-        if (cz < 0 || cz >= g->nc[2]) continue;
-        for (int cy = c[1] - 1; cy <= c[1] + 1; cy++) {
-            if (cy < 0 || cy >= g->nc[1]) continue;
+    const int R = g->reach;
+    const int x0 = c[0] > R ? c[0] - R : 0, x1 = c[0] + R < g->nc[0] ? c[0] + R : g->nc[0] - 1;
+    const int y0 = c[1] > R ? c[1] - R : 0, y1 = c[1] + R < g->nc[1] ? c[1] + R : g->nc[1] - 1;
+    const int z0 = c[2] > R ? c[2] - R : 0, z1 = c[2] + R < g->nc[2] ? c[2] + R : g->nc[2] - 1;
+    for (int cz = z0; cz <= z1; cz++) {
+        for (int cy = y0; cy <= y1; cy++) {
             int a[3] = {x0, cy, cz}, b[3] = {x1, cy, cz};
             const uint32_t j0 = start[rank_of(g, a)], j1 = start[rank_of(g, b) + 1];
             buf_reserve(l, t, j1 - j0);
-            uint32_t *restrict buf = l->tbuf[t];
-            size_t len = l->tlen[t];
-            for (uint32_t j = j0; j < j1; j++) {
-                double dx = px - tx[j], dy = py - ty[j], dz = pz - tz[j];
-                buf[len] = j;
-                len += (dx * dx + dy * dy + dz * dz < g->h2) & (j != self);
-            }
-            l->tlen[t] = len;
+            l->tlen[t] = filter_range(l->tbuf[t], l->tlen[t], j0, j1, self, px, py, pz, tx, ty,
+                                      tz, g->h2);
         }
     }
     return (uint32_t)(l->tlen[t] - len0);
@@ -279,20 +313,21 @@ void nbr_build_fb(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nb
     list_finish(l);
 }
 
-/* True when some fluid particle sits in the 27 cells around (x, y, z). */
+/* True when some fluid particle sits in the cells within reach of (x, y, z). */
 static int fluid_nearby(const nbr_grid *g, double x, double y, double z)
 {
-    int c[3], d[3];
+    int c[3];
     cell_of(g, x, y, z, c);
-    for (d[2] = c[2] - 1; d[2] <= c[2] + 1; d[2]++)
-        for (d[1] = c[1] - 1; d[1] <= c[1] + 1; d[1]++)
-            for (d[0] = c[0] - 1; d[0] <= c[0] + 1; d[0]++) {
-                if (d[0] < 0 || d[1] < 0 || d[2] < 0 || d[0] >= g->nc[0] ||
-                    d[1] >= g->nc[1] || d[2] >= g->nc[2])
-                    continue;
-                uint32_t k = rank_of(g, d);
-                if (g->fstart[k + 1] > g->fstart[k]) return 1;
-            }
+    const int R = g->reach;
+    const int x0 = c[0] > R ? c[0] - R : 0, x1 = c[0] + R < g->nc[0] ? c[0] + R : g->nc[0] - 1;
+    for (int cz = c[2] - R; cz <= c[2] + R; cz++) {
+        if (cz < 0 || cz >= g->nc[2]) continue;
+        for (int cy = c[1] - R; cy <= c[1] + R; cy++) {
+            if (cy < 0 || cy >= g->nc[1]) continue;
+            int a[3] = {x0, cy, cz}, b[3] = {x1, cy, cz};
+            if (g->fstart[rank_of(g, b) + 1] > g->fstart[rank_of(g, a)]) return 1;
+        }
+    }
     return 0;
 }
 

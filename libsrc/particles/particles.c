@@ -4,14 +4,14 @@
 
 #include <string.h>
 
-#define FLUID_DOUBLES 17
-#define BOUNDARY_DOUBLES 10
+#define FLUID_DOUBLES 18
+#define BOUNDARY_DOUBLES 11
 
 static void fluid_doubles(sl_fluid *f, double **a[FLUID_DOUBLES])
 {
     double **list[FLUID_DOUBLES] = {
         &f->x, &f->y, &f->z, &f->vx, &f->vy, &f->vz, &f->xs, &f->ys, &f->zs,
-        &f->ax, &f->ay, &f->az, &f->apx, &f->apy, &f->apz, &f->rho, &f->p};
+        &f->ax, &f->ay, &f->az, &f->apx, &f->apy, &f->apz, &f->rho, &f->p, &f->pt};
     memcpy(a, list, sizeof list);
 }
 
@@ -70,6 +70,7 @@ void prt_fluid_push(sl_fluid *f, double x, double y, double z,
     f->apx[i] = f->apy[i] = f->apz[i] = 0.0;
     f->rho[i] = 0.0;
     f->p[i] = 0.0;
+    f->pt[i] = 0.0;
     f->id[i] = (uint32_t)i;
     f->cell[i] = 0;
 }
@@ -104,7 +105,7 @@ void prt_fluid_permute(sl_fluid *f, const uint32_t *perm)
 static void boundary_doubles(sl_boundary *b, double **a[BOUNDARY_DOUBLES])
 {
     double **list[BOUNDARY_DOUBLES] = {&b->x, &b->y, &b->z, &b->nx, &b->ny, &b->nz,
-                                       &b->mass, &b->rho_static, &b->rho, &b->p};
+                                       &b->mass, &b->rho_static, &b->rho, &b->p, &b->pt};
     memcpy(a, list, sizeof list);
 }
 
@@ -140,6 +141,7 @@ void prt_boundary_push(sl_boundary *b, double x, double y, double z,
     b->rho_static[i] = 0.0;
     b->rho[i] = 0.0;
     b->p[i] = 0.0;
+    b->pt[i] = 0.0;
     b->body[i] = body;
 }
 

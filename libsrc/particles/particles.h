@@ -26,6 +26,7 @@ typedef struct sl_fluid {
     double *apx, *apy, *apz;  /* pressure acceleration F^p / m */
     double *rho;              /* (predicted) density */
     double *p;                /* pressure */
+    double *pt;               /* p / rho^2, for the pressure force */
     uint32_t *id;             /* stable particle id */
     uint32_t *cell;           /* grid cell (scratch for sorting) */
     double *scratch;          /* permutation scratch, cap doubles */
@@ -40,6 +41,7 @@ typedef struct sl_boundary {
     double *rho_static;       /* sum over boundary neighbours of m_k W_bk */
     double *rho;              /* predicted density (eq. 13) */
     double *p;                /* pressure */
+    double *pt;               /* p / rho^2 */
     uint32_t *body;           /* index of the geometry body it samples */
 } sl_boundary;
 

@@ -3,6 +3,7 @@
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 #include "core/sl_reduce.h"
+#include "solver/sph_sums.h"
 
 #include <math.h>
 #include <omp.h>
@@ -79,10 +80,15 @@ static void ensure_scratch(pcs_solver *s)
 
 static void find_neighbours(pcs_solver *s)
 {
+    double t0 = omp_get_wtime(), t1;
     nbr_sort_fluid(&s->grid, s->f);
+    t1 = omp_get_wtime(); s->time.sort += t1 - t0; t0 = t1;
     nbr_build_ff(&s->grid, s->f, &s->ff);
+    t1 = omp_get_wtime(); s->time.list_ff += t1 - t0; t0 = t1;
     nbr_build_fb(&s->grid, s->f, s->b, &s->fb);
+    t1 = omp_get_wtime(); s->time.list_fb += t1 - t0; t0 = t1;
     nbr_build_bf(&s->grid, s->f, s->b, &s->bf, s->active, &s->nactive);
+    t1 = omp_get_wtime(); s->time.list_bf += t1 - t0;
 }
 
 /* Non-pressure forces per unit mass; zero pressure and pressure force. */
@@ -129,49 +135,48 @@ static void predict_positions(pcs_solver *s)
 static double predict_density_pressure(pcs_solver *s)
 {
     sl_fluid *f = s->f;
-    const sl_boundary *b = s->b;
-    const krn_kernel *k = &s->k;
+    sl_boundary *b = s->b;
+    const krn_kernel k = s->k;
     const double m = s->mass, rho0 = s->prm.rho0, delta = s->delta;
-    const double self = m * krn_w(k, 0.0);
+    const double self = m * krn_w(&k, 0.0);
+    const size_t n = f->n;
+    const uint32_t *restrict ffs = s->ff.start, *restrict ffi = s->ff.idx;
+    const uint32_t *restrict fbs = s->fb.start, *restrict fbi = s->fb.idx;
+    const double *restrict xs = f->xs, *restrict ys = f->ys, *restrict zs = f->zs;
+    const double *restrict bx = b->x, *restrict by = b->y, *restrict bz = b->z;
+    const double *restrict bm = b->mass;
+    double *restrict rho = f->rho, *restrict p = f->p, *restrict pt = f->pt;
+    double *restrict err = s->err;
     double emax = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : emax)
-    for (size_t i = 0; i < f->n; i++) {
-        const double xi = f->xs[i], yi = f->ys[i], zi = f->zs[i];
-        double sf = 0.0, sb = 0.0;
-        for (uint32_t q = s->ff.start[i]; q < s->ff.start[i + 1]; q++) {
-            uint32_t j = s->ff.idx[q];
-            double dx = xi - f->xs[j], dy = yi - f->ys[j], dz = zi - f->zs[j];
-            sf += krn_w(k, sqrt(dx * dx + dy * dy + dz * dz));
-        }
-        for (uint32_t q = s->fb.start[i]; q < s->fb.start[i + 1]; q++) {
-            uint32_t j = s->fb.idx[q];
-            double dx = xi - b->x[j], dy = yi - b->y[j], dz = zi - b->z[j];
-            sb += b->mass[j] * krn_w(k, sqrt(dx * dx + dy * dy + dz * dz));
-        }
-        double rho = self + m * sf + sb;
-        double e = rho - rho0;
-        double p = f->p[i] + delta * e; /* eq. (3) */
-        f->rho[i] = rho;
-        f->p[i] = p > 0.0 ? p : 0.0;
-        double c = e > 0.0 ? e : 0.0;
-        s->err[i] = c;
-        if (c > emax) emax = c;
+    for (size_t i = 0; i < n; i++) {
+        const double xi = xs[i], yi = ys[i], zi = zs[i];
+        const double r = self + m * sph_sum_w(k, ffi, ffs[i], ffs[i + 1], xi, yi, zi, xs, ys, zs) +
+                         sph_sum_mw(k, fbi, fbs[i], fbs[i + 1], xi, yi, zi, bx, by, bz, bm);
+        const double e = r - rho0;
+        const double pn = p[i] + delta * e; /* eq. (3) */
+        const double pc = pn > 0.0 ? pn : 0.0;
+        rho[i] = r;
+        p[i] = pc;
+        pt[i] = pc / (r * r);
+        const double c = e > 0.0 ? e : 0.0;
+        err[i] = c;
+        emax = c > emax ? c : emax;
     }
-    sl_boundary *bw = s->b;
+    const uint32_t *restrict act = s->active;
+    const uint32_t *restrict bfs = s->bf.start, *restrict bfi = s->bf.idx;
+    const double *restrict brs = b->rho_static;
+    double *restrict brho = b->rho, *restrict bp = b->p, *restrict bpt = b->pt;
 #pragma omp parallel for schedule(static)
     for (size_t q = 0; q < s->nactive; q++) {
-        const uint32_t i = s->active[q];
-        const double xi = b->x[i], yi = b->y[i], zi = b->z[i];
-        double sf = 0.0;
-        for (uint32_t r = s->bf.start[i]; r < s->bf.start[i + 1]; r++) {
-            uint32_t j = s->bf.idx[r];
-            double dx = xi - f->xs[j], dy = yi - f->ys[j], dz = zi - f->zs[j];
-            sf += krn_w(k, sqrt(dx * dx + dy * dy + dz * dz));
-        }
-        double rho = b->rho_static[i] + m * sf; /* eq. (13) for a boundary particle */
-        double p = bw->p[i] + delta * (rho - rho0);
-        bw->rho[i] = rho;
-        bw->p[i] = p > 0.0 ? p : 0.0;
+        const uint32_t i = act[q];
+        const double r = brs[i] + m * sph_sum_w(k, bfi, bfs[i], bfs[i + 1], bx[i], by[i], bz[i],
+                                                 xs, ys, zs); /* eq. (13) */
+        const double pn = bp[i] + delta * (r - rho0);
+        const double pc = pn > 0.0 ? pn : 0.0;
+        brho[i] = r;
+        bp[i] = pc;
+        bpt[i] = pc / (r * r);
     }
     return emax;
 }
@@ -181,35 +186,24 @@ static void pressure_force(pcs_solver *s)
 {
     sl_fluid *f = s->f;
     const sl_boundary *b = s->b;
-    const krn_kernel *k = &s->k;
+    const krn_kernel k = s->k;
     const double m = s->mass;
+    const size_t n = f->n;
+    const uint32_t *restrict ffs = s->ff.start, *restrict ffi = s->ff.idx;
+    const uint32_t *restrict fbs = s->fb.start, *restrict fbi = s->fb.idx;
+    const double *restrict xs = f->xs, *restrict ys = f->ys, *restrict zs = f->zs;
+    const double *restrict pt = f->pt, *restrict bpt = b->pt, *restrict bm = b->mass;
+    double *restrict apx = f->apx, *restrict apy = f->apy, *restrict apz = f->apz;
 #pragma omp parallel for schedule(static)
-    for (size_t i = 0; i < f->n; i++) {
-        const double xi = f->xs[i], yi = f->ys[i], zi = f->zs[i];
-        const double pi = f->p[i] / (f->rho[i] * f->rho[i]);
-        double ax = 0, ay = 0, az = 0;
-        for (uint32_t q = s->ff.start[i]; q < s->ff.start[i + 1]; q++) {
-            uint32_t j = s->ff.idx[q];
-            double dx = xi - f->xs[j], dy = yi - f->ys[j], dz = zi - f->zs[j];
-            double g = krn_gradf(k, sqrt(dx * dx + dy * dy + dz * dz));
-            double c = m * (pi + f->p[j] / (f->rho[j] * f->rho[j])) * g;
-            ax -= c * dx;
-            ay -= c * dy;
-            az -= c * dz;
-        }
-        for (uint32_t q = s->fb.start[i]; q < s->fb.start[i + 1]; q++) {
-            uint32_t j = s->fb.idx[q];
-            double dx = xi - b->x[j], dy = yi - b->y[j], dz = zi - b->z[j];
-            double g = krn_gradf(k, sqrt(dx * dx + dy * dy + dz * dz));
-            double pb = b->rho[j] > 0.0 ? b->p[j] / (b->rho[j] * b->rho[j]) : 0.0;
-            double c = b->mass[j] * (pi + pb) * g;
-            ax -= c * dx;
-            ay -= c * dy;
-            az -= c * dz;
-        }
-        f->apx[i] = ax;
-        f->apy[i] = ay;
-        f->apz[i] = az;
+    for (size_t i = 0; i < n; i++) {
+        const double xi = xs[i], yi = ys[i], zi = zs[i];
+        double a[3] = {0.0, 0.0, 0.0};
+        sph_sum_pressure(k, ffi, ffs[i], ffs[i + 1], xi, yi, zi, pt[i], xs, ys, zs, pt, NULL, m, a);
+        sph_sum_pressure(k, fbi, fbs[i], fbs[i + 1], xi, yi, zi, pt[i], b->x, b->y, b->z, bpt, bm,
+                         0.0, a);
+        apx[i] = a[0];
+        apy[i] = a[1];
+        apz[i] = a[2];
     }
 }
 
@@ -287,22 +281,15 @@ void pcs_compute_density(pcs_solver *s)
 {
     sl_fluid *f = s->f;
     const sl_boundary *b = s->b;
-    const krn_kernel *k = &s->k;
-    const double m = s->mass, self = m * krn_w(k, 0.0);
+    const krn_kernel k = s->k;
+    const double m = s->mass, self = m * krn_w(&k, 0.0);
     find_neighbours(s);
+    const uint32_t *restrict ffs = s->ff.start, *restrict ffi = s->ff.idx;
+    const uint32_t *restrict fbs = s->fb.start, *restrict fbi = s->fb.idx;
+    const double *restrict x = f->x, *restrict y = f->y, *restrict z = f->z;
+    double *restrict rho = f->rho;
 #pragma omp parallel for schedule(static)
-    for (size_t i = 0; i < f->n; i++) {
-        double sf = 0.0, sb = 0.0;
-        for (uint32_t q = s->ff.start[i]; q < s->ff.start[i + 1]; q++) {
-            uint32_t j = s->ff.idx[q];
-            double dx = f->x[i] - f->x[j], dy = f->y[i] - f->y[j], dz = f->z[i] - f->z[j];
-            sf += krn_w(k, sqrt(dx * dx + dy * dy + dz * dz));
-        }
-        for (uint32_t q = s->fb.start[i]; q < s->fb.start[i + 1]; q++) {
-            uint32_t j = s->fb.idx[q];
-            double dx = f->x[i] - b->x[j], dy = f->y[i] - b->y[j], dz = f->z[i] - b->z[j];
-            sb += b->mass[j] * krn_w(k, sqrt(dx * dx + dy * dy + dz * dz));
-        }
-        f->rho[i] = self + m * sf + sb;
-    }
+    for (size_t i = 0; i < f->n; i++)
+        rho[i] = self + m * sph_sum_w(k, ffi, ffs[i], ffs[i + 1], x[i], y[i], z[i], x, y, z) +
+                 sph_sum_mw(k, fbi, fbs[i], fbs[i + 1], x[i], y[i], z[i], b->x, b->y, b->z, b->mass);
 }

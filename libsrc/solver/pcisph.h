@@ -54,6 +54,7 @@ typedef struct pcs_stats {
 /* Wall-clock seconds spent in each phase (accumulated). */
 typedef struct pcs_timers {
     double search, forces, predict, density, pressure, integrate;
+    double sort, list_ff, list_fb, list_bf;   /* parts of search */
 } pcs_timers;
 
 typedef struct pcs_solver {
