@@ -85,7 +85,7 @@ demo:
 	$(MAKE) all
 	@etc/runDemo
 
-bench: all
+bench: $(BIN)/benchPcisph
 	@tests/bench/run_bench $(BIN)
 
 format:

@@ -263,6 +263,39 @@ static uint32_t gather(const nbr_grid *g, nbr_list *l, int t, const uint32_t *st
     return (uint32_t)(l->tlen[t] - len0);
 }
 
+/* Both rows of fluid particle i in one sweep over its cells: fluid
+ * neighbours into l (thread t) and boundary neighbours into lb. */
+static void gather_both(const nbr_grid *g, nbr_list *l, nbr_list *lb, int t, const sl_fluid *f,
+                        const sl_boundary *b, uint32_t i)
+{
+    int c[3];
+    const double px = f->x[i], py = f->y[i], pz = f->z[i];
+    const size_t len0 = l->tlen[t], blen0 = lb->tlen[t];
+    cell_of(g, px, py, pz, c);
+    const int R = g->reach;
+    const int x0 = c[0] > R ? c[0] - R : 0, x1 = c[0] + R < g->nc[0] ? c[0] + R : g->nc[0] - 1;
+    const int y0 = c[1] > R ? c[1] - R : 0, y1 = c[1] + R < g->nc[1] ? c[1] + R : g->nc[1] - 1;
+    const int z0 = c[2] > R ? c[2] - R : 0, z1 = c[2] + R < g->nc[2] ? c[2] + R : g->nc[2] - 1;
+    for (int cz = z0; cz <= z1; cz++)
+        for (int cy = y0; cy <= y1; cy++) {
+            int a[3] = {x0, cy, cz}, e[3] = {x1, cy, cz};
+            const uint32_t ka = rank_of(g, a), ke = rank_of(g, e) + 1;
+            uint32_t j0 = g->fstart[ka], j1 = g->fstart[ke];
+            buf_reserve(l, t, j1 - j0);
+            l->tlen[t] = filter_range(l->tbuf[t], l->tlen[t], j0, j1, i, px, py, pz, f->x, f->y,
+                                      f->z, g->h2);
+            j0 = g->bstart[ka];
+            j1 = g->bstart[ke];
+            if (j1 > j0) {
+                buf_reserve(lb, t, j1 - j0);
+                lb->tlen[t] = filter_range(lb->tbuf[t], lb->tlen[t], j0, j1, UINT32_MAX, px, py,
+                                           pz, b->x, b->y, b->z, g->h2);
+            }
+        }
+    l->start[i + 1] = (uint32_t)(l->tlen[t] - len0);
+    lb->start[i + 1] = (uint32_t)(lb->tlen[t] - blen0);
+}
+
 /* Concatenate the thread buffers (thread order = particle order). */
 static void list_finish(nbr_list *l)
 {
@@ -301,6 +334,16 @@ void nbr_build_ff(const nbr_grid *g, const sl_fluid *f, nbr_list *l)
                                  f->x[i], f->y[i], f->z[i], (uint32_t)i);
     })
     list_finish(l);
+}
+
+void nbr_build_fluid(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *ff,
+                     nbr_list *fb)
+{
+    list_prepare(ff, f->n);
+    list_prepare(fb, f->n);
+    FOR_ROWS_BY_THREAD(ff, f->n, { gather_both(g, ff, fb, t_, f, b, (uint32_t)i); })
+    list_finish(ff);
+    list_finish(fb);
 }
 
 void nbr_build_fb(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *l)
@@ -346,6 +389,31 @@ void nbr_build_bf(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nb
         if (l->start[i + 1] > 0) active[na++] = (uint32_t)i;
     *nactive = na;
     list_finish(l);
+}
+
+void nbr_transpose(const nbr_list *fb, size_t nb, nbr_list *bf, uint32_t *active, size_t *nactive)
+{
+    list_prepare(bf, nb);
+    size_t total = nbr_list_size(fb);
+    if (total > bf->idx_cap) {
+        sl_free_aligned(bf->idx);
+        bf->idx_cap = total + total / 4;
+        bf->idx = sl_alloc_aligned(bf->idx_cap * sizeof *bf->idx, "neighbour list");
+    }
+    uint32_t *restrict st = bf->start;
+    memset(st, 0, (nb + 1) * sizeof *st);
+    for (size_t q = 0; q < total; q++) st[fb->idx[q] + 1]++;
+    size_t na = 0;
+    for (size_t b = 0; b < nb; b++) {
+        if (st[b + 1]) active[na++] = (uint32_t)b;
+        st[b + 1] += st[b];
+    }
+    *nactive = na;
+    /* fill: rows in ascending fluid index; st[b] walks to the row's end */
+    for (size_t i = 0; i < fb->n; i++)
+        for (uint32_t q = fb->start[i]; q < fb->start[i + 1]; q++) bf->idx[st[fb->idx[q]]++] = (uint32_t)i;
+    for (size_t b = nb; b > 0; b--) st[b] = st[b - 1];
+    st[0] = 0;
 }
 
 void nbr_build_bb(const nbr_grid *g, const sl_boundary *b, nbr_list *l)

@@ -74,6 +74,9 @@ void nbr_list_free(nbr_list *l);
 
 /* Fluid -> fluid neighbours (self excluded) within h, from x(t). */
 void nbr_build_ff(const nbr_grid *g, const sl_fluid *f, nbr_list *l);
+/* Both fluid rows (ff and fb) in one sweep over the cells. */
+void nbr_build_fluid(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *ff,
+                     nbr_list *fb);
 /* Fluid -> boundary neighbours within h. */
 void nbr_build_fb(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *l);
 /* Boundary -> fluid neighbours for every boundary particle; rows of
@@ -82,6 +85,10 @@ void nbr_build_fb(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nb
  * and *nactive their count (paper Sec. 3.4: active boundary particles). */
 void nbr_build_bf(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *l,
                   uint32_t *active, size_t *nactive);
+/* The same boundary -> fluid lists and active set, by transposing the
+ * fluid -> boundary lists (the relation is symmetric).  Serial, but it
+ * touches only the fluid-boundary pairs, a small share of all pairs. */
+void nbr_transpose(const nbr_list *fb, size_t nb, nbr_list *bf, uint32_t *active, size_t *nactive);
 /* Boundary -> boundary neighbours (self included), for set-up only. */
 void nbr_build_bb(const nbr_grid *g, const sl_boundary *b, nbr_list *l);
 

@@ -78,16 +78,14 @@ static void ensure_scratch(pcs_solver *s)
 
 /* ---- the phases of Algorithm 2 ---- */
 
-static void find_neighbours(pcs_solver *s)
+void pcs_find_neighbours(pcs_solver *s)
 {
     double t0 = omp_get_wtime(), t1;
     nbr_sort_fluid(&s->grid, s->f);
     t1 = omp_get_wtime(); s->time.sort += t1 - t0; t0 = t1;
-    nbr_build_ff(&s->grid, s->f, &s->ff);
+    nbr_build_fluid(&s->grid, s->f, s->b, &s->ff, &s->fb);
     t1 = omp_get_wtime(); s->time.list_ff += t1 - t0; t0 = t1;
-    nbr_build_fb(&s->grid, s->f, s->b, &s->fb);
-    t1 = omp_get_wtime(); s->time.list_fb += t1 - t0; t0 = t1;
-    nbr_build_bf(&s->grid, s->f, s->b, &s->bf, s->active, &s->nactive);
+    nbr_transpose(&s->fb, s->b->n, &s->bf, s->active, &s->nactive);
     t1 = omp_get_wtime(); s->time.list_bf += t1 - t0;
 }
 
@@ -132,7 +130,7 @@ static void predict_positions(pcs_solver *s)
 /* Predicted density of fluid and active boundary particles (eq. 13) and
  * pressure update (eq. 3).  Fills s->err with each fluid particle's
  * compression and returns the largest one (absolute units). */
-static double predict_density_pressure(pcs_solver *s)
+double pcs_pass_density(pcs_solver *s)
 {
     sl_fluid *f = s->f;
     sl_boundary *b = s->b;
@@ -182,7 +180,7 @@ static double predict_density_pressure(pcs_solver *s)
 }
 
 /* Pressure force per unit mass, eq. (6), over fluid and boundary neighbours. */
-static void pressure_force(pcs_solver *s)
+void pcs_pass_pressure(pcs_solver *s)
 {
     sl_fluid *f = s->f;
     const sl_boundary *b = s->b;
@@ -245,7 +243,7 @@ void pcs_step(pcs_solver *s, pcs_stats *st)
     memset(st, 0, sizeof *st);
     ensure_scratch(s);
 
-    find_neighbours(s);
+    pcs_find_neighbours(s);
     t1 = omp_get_wtime(); s->time.search += t1 - t0; t0 = t1;
     compute_forces(s);
     t1 = omp_get_wtime(); s->time.forces += t1 - t0; t0 = t1;
@@ -255,13 +253,13 @@ void pcs_step(pcs_solver *s, pcs_stats *st)
     for (;;) {
         predict_positions(s);
         t1 = omp_get_wtime(); s->time.predict += t1 - t0; t0 = t1;
-        emax = predict_density_pressure(s);
+        emax = pcs_pass_density(s);
         if (k == 0) {
             st->err_max_before = emax / rho0;
             st->err_avg_before = sl_sum(s->err, f->n) * inv_n / rho0;
         }
         t1 = omp_get_wtime(); s->time.density += t1 - t0; t0 = t1;
-        pressure_force(s);
+        pcs_pass_pressure(s);
         t1 = omp_get_wtime(); s->time.pressure += t1 - t0; t0 = t1;
         k++;
         if (k >= s->prm.max_iter) break;
@@ -283,7 +281,7 @@ void pcs_compute_density(pcs_solver *s)
     const sl_boundary *b = s->b;
     const krn_kernel k = s->k;
     const double m = s->mass, self = m * krn_w(&k, 0.0);
-    find_neighbours(s);
+    pcs_find_neighbours(s);
     const uint32_t *restrict ffs = s->ff.start, *restrict ffi = s->ff.idx;
     const uint32_t *restrict fbs = s->fb.start, *restrict fbi = s->fb.idx;
     const double *restrict x = f->x, *restrict y = f->y, *restrict z = f->z;

@@ -54,7 +54,7 @@ typedef struct pcs_stats {
 /* Wall-clock seconds spent in each phase (accumulated). */
 typedef struct pcs_timers {
     double search, forces, predict, density, pressure, integrate;
-    double sort, list_ff, list_fb, list_bf;   /* parts of search */
+    double sort, list_ff, list_bf;   /* parts of search: sorting, fluid rows, boundary rows */
 } pcs_timers;
 
 typedef struct pcs_solver {
@@ -86,6 +86,13 @@ void pcs_free(pcs_solver *s);
 void pcs_set_dt(pcs_solver *s, double dt);
 /* Advance by s->dt. */
 void pcs_step(pcs_solver *s, pcs_stats *st);
+/* The phases of a step, public for benchmarks: sort and build the
+ * neighbour lists; one predicted-density + pressure-update pass (returns
+ * the largest compression); one pressure-force pass. */
+void pcs_find_neighbours(pcs_solver *s);
+double pcs_pass_density(pcs_solver *s);
+void pcs_pass_pressure(pcs_solver *s);
+
 /* Density of every fluid particle from the current positions x(t) (for
  * output; uses the lists of the last step or rebuilds them). */
 void pcs_compute_density(pcs_solver *s);

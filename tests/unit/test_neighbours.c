@@ -161,6 +161,64 @@ static void test_same_lists_any_thread_count(void **state)
     free_world(&w);
 }
 
+/* Transposing fluid -> boundary gives the boundary -> fluid lists (as
+ * sets per row) and the same active set. */
+static void test_transpose(void **state)
+{
+    (void)state;
+    world w;
+    make_world(&w);
+    nbr_list fb, bf, tr;
+    nbr_list_init(&fb);
+    nbr_list_init(&bf);
+    nbr_list_init(&tr);
+    uint32_t *a1 = malloc(w.b.n * sizeof *a1), *a2 = malloc(w.b.n * sizeof *a2);
+    size_t n1, n2;
+    nbr_build_fb(&w.g, &w.f, &w.b, &fb);
+    nbr_build_bf(&w.g, &w.f, &w.b, &bf, a1, &n1);
+    nbr_transpose(&fb, w.b.n, &tr, a2, &n2);
+    assert_int_equal(n1, n2);
+    assert_memory_equal(a1, a2, n1 * sizeof *a1);
+    assert_memory_equal(bf.start, tr.start, (w.b.n + 1) * sizeof *bf.start);
+    for (size_t i = 0; i < w.b.n; i++) {
+        uint32_t k = bf.start[i], m = bf.start[i + 1] - k;
+        qsort(bf.idx + k, m, sizeof *bf.idx, cmp_u32);
+        for (uint32_t q = 1; q < m; q++) assert_true(tr.idx[k + q] > tr.idx[k + q - 1]);
+        assert_memory_equal(bf.idx + k, tr.idx + k, m * sizeof *bf.idx);
+    }
+    free(a1);
+    free(a2);
+    nbr_list_free(&fb);
+    nbr_list_free(&bf);
+    nbr_list_free(&tr);
+    free_world(&w);
+}
+
+/* The one-sweep build gives the same lists as the separate builds. */
+static void test_combined_build(void **state)
+{
+    (void)state;
+    world w;
+    make_world(&w);
+    nbr_list a, b, c, d;
+    nbr_list_init(&a);
+    nbr_list_init(&b);
+    nbr_list_init(&c);
+    nbr_list_init(&d);
+    nbr_build_ff(&w.g, &w.f, &a);
+    nbr_build_fb(&w.g, &w.f, &w.b, &b);
+    nbr_build_fluid(&w.g, &w.f, &w.b, &c, &d);
+    assert_memory_equal(a.start, c.start, (w.f.n + 1) * sizeof *a.start);
+    assert_memory_equal(a.idx, c.idx, a.start[w.f.n] * sizeof *a.idx);
+    assert_memory_equal(b.start, d.start, (w.f.n + 1) * sizeof *b.start);
+    assert_memory_equal(b.idx, d.idx, b.start[w.f.n] * sizeof *b.idx);
+    nbr_list_free(&a);
+    nbr_list_free(&b);
+    nbr_list_free(&c);
+    nbr_list_free(&d);
+    free_world(&w);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -168,6 +226,8 @@ int main(void)
         cmocka_unit_test(test_fluid_boundary_brute_force),
         cmocka_unit_test(test_sorted_by_cell),
         cmocka_unit_test(test_same_lists_any_thread_count),
+        cmocka_unit_test(test_combined_build),
+        cmocka_unit_test(test_transpose),
     };
     return cmocka_run_group_tests_name("neighbours", tests, NULL, NULL);
 }

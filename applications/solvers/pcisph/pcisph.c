@@ -141,8 +141,8 @@ int main(int argc, char **argv)
             "pressure force %.2f s, integrate %.2f s, output+other %.2f s",
             tm->search, tm->forces, tm->predict, tm->density, tm->pressure, tm->integrate,
             tot.wall - phases);
-    sl_info("  search: sort %.2f s, fluid lists %.2f s, fluid-boundary %.2f s, boundary-fluid %.2f s",
-            tm->sort, tm->list_ff, tm->list_fb, tm->list_bf);
+    sl_info("  search: sort %.2f s, fluid lists %.2f s, boundary lists %.2f s",
+            tm->sort, tm->list_ff, tm->list_bf);
     sl_info("  %.3g particle-steps/s (%d threads)",
             tot.wall > 0 ? (double)c.fluid.n * (double)tot.steps / tot.wall : 0.0,
             omp_get_max_threads());
