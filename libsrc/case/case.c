@@ -95,23 +95,12 @@ static void read_controls(sl_case *c)
     dict_free(d);
 }
 
-/* ---- system/timeStepDict ---- */
-
-static const char *const timestep_keys[] = {"mode", "deltaT", NULL};
+/* ---- system/timeStepDict: the controller's parameters (timestep/) ---- */
 
 static void read_timestep(sl_case *c)
 {
-    static const char *const modes[] = {"constant", "adaptive", NULL};
     dict *d = read_dict(c, "system/timeStepDict");
-    sl_err err;
-    const char *w;
-    dict_warn_unknown(d, timestep_keys);
-    need(dict_get_word_or(d, "mode", "constant", &w, &err), &err);
-    c->ts.adaptive = choose(d, "mode", w, modes);
-    if (c->ts.adaptive)
-        bad_value(d, "mode", "adaptive time stepping is not available yet; use 'constant'");
-    need(dict_get_scalar(d, "deltaT", &c->ts.dt, &err), &err);
-    positive(d, "deltaT", c->ts.dt);
+    ts_read(d, &c->ts);
     dict_free(d);
 }
 
@@ -302,6 +291,12 @@ void case_read(sl_case *c, const char *dir)
     read_timestep(c);
     read_fluid(c);
     read_boundary(c);
+    sl_err err;
+    if (ts_validate(&c->ts, c->prm.eta, &err))
+        sl_fatal("%s/system/timeStepDict: %s (with eta = %g %% in constant/fluidProperties)",
+                 c->dir, err.msg, 100 * c->prm.eta);
+    if (c->ts.mode == TS_ADAPTIVE) /* Sec. 3.3: exactly `iterations` per step */
+        c->prm.min_iter = c->prm.max_iter = c->ts.iterations;
 }
 
 /* ---- building the world ---- */

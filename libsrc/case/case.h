@@ -21,6 +21,7 @@
 #include "geometry/geometry.h"
 #include "particles/particles.h"
 #include "solver/pcisph.h"
+#include "timestep/timestep.h"
 
 typedef enum { CASE_START_TIME, CASE_LATEST_TIME } case_start;
 
@@ -30,11 +31,6 @@ typedef struct case_controls {
     int ascii, compress, time_precision, purge_write, nthreads, write_boundary;
 } case_controls;
 
-typedef struct case_timestep {
-    int adaptive;
-    double dt;
-} case_timestep;
-
 typedef struct case_region {
     char name[64];
     double lo[3], hi[3], velocity[3];
@@ -43,7 +39,7 @@ typedef struct case_region {
 typedef struct sl_case {
     char *dir;
     case_controls ctl;
-    case_timestep ts;
+    ts_params ts;              /* system/timeStepDict */
     pcs_params prm;
     char method[32];
     geo_shape *shapes;

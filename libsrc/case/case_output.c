@@ -2,6 +2,7 @@
 #include "case/case_output.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
+#include "case/case_restart.h"
 #include "io/time_dir.h"
 #include "io/vtk_collection.h"
 #include "io/vtk_writer.h"
@@ -23,7 +24,7 @@ static char *join(const char *a, const char *b)
     return s;
 }
 
-/* Remove a directory holding only files (a time directory). */
+/* Remove a time directory: its files and sub-directories (uniform/). */
 static void remove_dir(const char *path)
 {
     DIR *d = opendir(path);
@@ -32,7 +33,9 @@ static void remove_dir(const char *path)
     while ((e = readdir(d)))
         if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
             char *p = join(path, e->d_name);
-            unlink(p);
+            struct stat st;
+            if (lstat(p, &st) == 0 && S_ISDIR(st.st_mode)) remove_dir(p);
+            else unlink(p);
             free(p);
         }
     closedir(d);
@@ -145,7 +148,8 @@ static void purge(case_output *o)
     }
 }
 
-int out_write(case_output *o, const pcs_solver *s, double t, sl_err *err)
+int out_write(case_output *o, const pcs_solver *s, double t, const pcs_snapshot *snap,
+              const void *ctrl, size_t ctrl_size, sl_err *err)
 {
     const case_controls *k = &o->c->ctl;
     char name[64], tmpname[96];
@@ -163,6 +167,7 @@ int out_write(case_output *o, const pcs_solver *s, double t, sl_err *err)
     rc = tdir_mkdirs(tmp, err);
     if (!rc) rc = write_fluid(fpath, s, &opt, err);
     if (!rc && k->write_boundary) rc = write_boundary(bpath, s, &opt, err);
+    if (!rc && snap) rc = rst_write(tmp, snap, ctrl, ctrl_size, err);
     if (!rc) {
         remove_dir(dir); /* an older run's directory of the same time */
         if (rename(tmp, dir) != 0) {

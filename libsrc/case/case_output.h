@@ -14,6 +14,7 @@
 #include "case/case.h"
 #include "core/sl_log.h"
 #include "solver/pcisph.h"
+#include "solver/pcs_snapshot.h"
 
 typedef struct case_output {
     const sl_case *c;
@@ -26,7 +27,10 @@ typedef struct case_output {
  * including `start_time`; later ones are left alone and not listed. */
 void out_init(case_output *o, const sl_case *c, double start_time);
 void out_free(case_output *o);
-/* Write time t; returns 0, or nonzero with err filled (nothing half-written). */
-int out_write(case_output *o, const pcs_solver *s, double t, sl_err *err);
+/* Write time t, with the restart file of snapshot `snap` and the
+ * controller state ctrl (ctrl_size bytes) when snap != NULL; returns 0, or
+ * nonzero with err filled (nothing half-written). */
+int out_write(case_output *o, const pcs_solver *s, double t, const pcs_snapshot *snap,
+              const void *ctrl, size_t ctrl_size, sl_err *err);
 
 #endif

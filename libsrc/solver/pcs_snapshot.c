@@ -1,0 +1,65 @@
+/* pcs_snapshot: copies of the step state (see pcs_snapshot.h). */
+#include "solver/pcs_snapshot.h"
+#include "core/sl_mem.h"
+
+#include <string.h>
+
+void snap_init(pcs_snapshot *s) { memset(s, 0, sizeof *s); }
+
+void snap_free(pcs_snapshot *s)
+{
+    double *a[6] = {s->x, s->y, s->z, s->vx, s->vy, s->vz};
+    for (int k = 0; k < 6; k++) sl_free_aligned(a[k]);
+    sl_free_aligned(s->id);
+    memset(s, 0, sizeof *s);
+}
+
+static void snap_reserve(pcs_snapshot *s, size_t n)
+{
+    if (n <= s->cap) return;
+    snap_free(s);
+    double **a[6] = {&s->x, &s->y, &s->z, &s->vx, &s->vy, &s->vz};
+    for (int k = 0; k < 6; k++) *a[k] = sl_alloc_aligned(n * sizeof(double), "state snapshot");
+    s->id = sl_alloc_aligned(n * sizeof *s->id, "state snapshot");
+    s->cap = n;
+}
+
+void snap_take(pcs_snapshot *s, const sl_fluid *f, double time, double dt, long step)
+{
+    snap_reserve(s, f->cap);
+    const size_t bytes = f->n * sizeof(double);
+    memcpy(s->x, f->x, bytes);
+    memcpy(s->y, f->y, bytes);
+    memcpy(s->z, f->z, bytes);
+    memcpy(s->vx, f->vx, bytes);
+    memcpy(s->vy, f->vy, bytes);
+    memcpy(s->vz, f->vz, bytes);
+    memcpy(s->id, f->id, f->n * sizeof *s->id);
+    s->n = f->n;
+    s->time = time;
+    s->dt = dt;
+    s->step = step;
+}
+
+void snap_restore(const pcs_snapshot *s, sl_fluid *f)
+{
+    prt_fluid_reserve(f, s->n);
+    const size_t bytes = s->n * sizeof(double);
+    memcpy(f->x, s->x, bytes);
+    memcpy(f->y, s->y, bytes);
+    memcpy(f->z, s->z, bytes);
+    memcpy(f->vx, s->vx, bytes);
+    memcpy(f->vy, s->vy, bytes);
+    memcpy(f->vz, s->vz, bytes);
+    memcpy(f->id, s->id, s->n * sizeof *f->id);
+    f->n = s->n;
+}
+
+int snap_equal(const pcs_snapshot *a, const pcs_snapshot *b)
+{
+    if (a->n != b->n || a->time != b->time || a->dt != b->dt || a->step != b->step) return 0;
+    const size_t bytes = a->n * sizeof(double);
+    return !memcmp(a->x, b->x, bytes) && !memcmp(a->y, b->y, bytes) && !memcmp(a->z, b->z, bytes) &&
+           !memcmp(a->vx, b->vx, bytes) && !memcmp(a->vy, b->vy, bytes) &&
+           !memcmp(a->vz, b->vz, bytes) && !memcmp(a->id, b->id, a->n * sizeof *a->id);
+}

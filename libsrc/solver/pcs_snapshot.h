@@ -1,0 +1,36 @@
+/*
+ * pcs_snapshot: everything a PCISPH step depends on, copied out and back.
+ *
+ * A step reads only the fluid positions, velocities and ids (in memory
+ * order: the stable cell sort keeps ties in that order), the time step and
+ * the time; pressures and forces are rebuilt from zero each step (Alg. 2).
+ * The snapshot keeps exactly these, so restoring it and stepping again
+ * gives bit-identical results.  Used for the two-step rollback of the
+ * shock handling (paper Sec. 3.3) and for restart files.  Buffers grow on
+ * first use and are reused: no allocation in the time loop afterwards.
+ */
+#ifndef SL_PCS_SNAPSHOT_H
+#define SL_PCS_SNAPSHOT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "solver/pcisph.h"
+
+typedef struct pcs_snapshot {
+    size_t n, cap;
+    double *x, *y, *z, *vx, *vy, *vz;
+    uint32_t *id;
+    double time, dt;
+    long step;
+} pcs_snapshot;
+
+void snap_init(pcs_snapshot *s);
+void snap_free(pcs_snapshot *s);
+void snap_take(pcs_snapshot *s, const sl_fluid *f, double time, double dt, long step);
+/* Copy back into f (whose capacity must hold s->n particles). */
+void snap_restore(const pcs_snapshot *s, sl_fluid *f);
+/* Bitwise equality of two snapshots (for tests). */
+int snap_equal(const pcs_snapshot *a, const pcs_snapshot *b);
+
+#endif
