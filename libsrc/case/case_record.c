@@ -26,13 +26,18 @@ void rec_open(case_record *r, const sl_case *c, double start_time)
                   "# rhoErr: compression max(rho - rho0, 0) / rho0 in percent, after the last "
                   "PCISPH iteration\n"
                   "# Fmax: largest force per unit mass (m/s^2)\n"
-                  "# Time\tdeltaT\titerations\trhoErrAvg\trhoErrMax\tvMax\tFMax\tshock\twallTime\n");
+                  "# shock 1: the step was discarded, the run went back two steps\n"
+                  "# controllerDeltaT: the controller's step after this one\n"
+                  "# Time\tdeltaT\titerations\trhoErrAvg\trhoErrMax\tvMax\tFMax\tshock\twallTime"
+                  "\tcontrollerDeltaT\n");
 }
 
-void rec_step(case_record *r, double t, double dt, const pcs_stats *st, int shock, double wall)
+void rec_step(case_record *r, double t, double dt, const pcs_stats *st, int shock, double wall,
+              double dt_next)
 {
-    fprintf(r->f, "%.10g\t%.8g\t%d\t%.6g\t%.6g\t%.6g\t%.6g\t%d\t%.6g\n", t, dt, st->iterations,
-            100 * st->err_avg, 100 * st->err_max, st->vmax, st->fmax, shock, wall);
+    fprintf(r->f, "%.10g\t%.17g\t%d\t%.6g\t%.6g\t%.6g\t%.6g\t%d\t%.6g\t%.17g\n", t, dt,
+            st->iterations, 100 * st->err_avg, 100 * st->err_max, st->vmax, st->fmax, shock, wall,
+            dt_next);
 }
 
 void rec_close(case_record *r)

@@ -19,9 +19,12 @@ typedef struct case_record {
 
 /* Open (creating folders) the record for a run starting at start_time. */
 void rec_open(case_record *r, const sl_case *c, double start_time);
-/* One row: time after the step, its deltaT, the step's statistics, a
- * shock flag and the step's wall-clock seconds. */
-void rec_step(case_record *r, double t, double dt, const pcs_stats *st, int shock, double wall);
+/* One row: time after the step, the deltaT it used, the step's
+ * statistics, a shock flag, the step's wall-clock seconds and the
+ * controller's deltaT for the next step (the step used may differ from it
+ * by the spreading that lands on write times). */
+void rec_step(case_record *r, double t, double dt, const pcs_stats *st, int shock, double wall,
+              double dt_next);
 void rec_close(case_record *r);
 
 #endif

@@ -59,13 +59,15 @@ static int dict_check_known(const char *key, const char *const *valid)
     return 0;
 }
 
+/* Entries used as $variables elsewhere are the user's macros (a resolution
+ * knob, say) and are not reported. */
 int dict_warn_unknown(const dict *d, const char *const *valid)
 {
     int unknown = 0;
     for (size_t i = 0; d && i < d->n; i++) {
         const dict_entry *e = d->entries[i];
         const char *near;
-        if (dict_check_known(e->key, valid)) continue;
+        if (dict_check_known(e->key, valid) || e->referenced) continue;
         unknown++;
         near = dict_nearest(e->key, valid);
         if (near)

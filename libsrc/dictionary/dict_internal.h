@@ -37,6 +37,7 @@ struct dict_entry {
     dict *sub;        /* non-NULL for a dictionary entry ... */
     dict_token *tok;  /* ... otherwise the value tokens */
     size_t ntok;
+    int referenced;   /* named by a $variable: a user's macro, not unknown */
 };
 
 /* File names referred to by entries and tokens, owned by the top level so

@@ -61,5 +61,6 @@ const dict_entry *dict_var_lookup(const dict *scope, const char *name)
                                                         : strlen(name))
                    : NULL;
     }
+    if (e) ((dict_entry *)e)->referenced = 1; /* the tree is ours; marks a macro */
     return e;
 }

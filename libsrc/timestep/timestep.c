@@ -35,7 +35,8 @@ void ts_rollback(ts_state *s, const ts_state *snap)
 
 /* ---- initial step ---- */
 
-static void append(char *buf, size_t len, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void append(char *buf, size_t len, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
 
 static void append(char *buf, size_t len, const char *fmt, ...)
 {
@@ -98,6 +99,16 @@ double ts_initial(const ts_params *p, double h, double v0max, double g_norm, dou
         dt = p->delta_t_min;
     }
     return dt;
+}
+
+double ts_initial_pressure(double eta_avg, int iterations, double delta_unit, double g_norm,
+                           double height)
+{
+    if (!(eta_avg > 0.0 && iterations > 0 && delta_unit > 0.0 && g_norm > 0.0 && height > 0.0))
+        return HUGE_VAL;
+    /* bottom error rho0 g H / (k delta(dt)), delta(dt) = delta_unit / dt^2;
+     * the average over the column is half of it: set it to eta_avg / 2 */
+    return sqrt(eta_avg * iterations * delta_unit / (g_norm * height));
 }
 
 /* ---- one step ---- */
@@ -209,7 +220,8 @@ const char *ts_action_name(ts_action a)
 }
 
 /* Append "; " between items. */
-static void item(char *buf, size_t len, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void item(char *buf, size_t len, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
 
 static void item(char *buf, size_t len, const char *fmt, ...)
 {
@@ -245,7 +257,8 @@ void ts_criteria_text(const ts_params *p, unsigned c, char *buf, size_t len)
         item(buf, len, "non-finite density error, velocity or force");
     } else if (c & TS_SHOCK_ANY) {
         if (c & TS_C25) item(buf, len, "(25) rho_err_max rose > %g eta_avg", p->delta_shock_factor);
-        if (c & TS_C26) item(buf, len, "(26) rho_err_max > eta_max = %g eta_avg", p->eta_max_factor);
+        if (c & TS_C26)
+            item(buf, len, "(26) rho_err_max > eta_max = %g eta_avg", p->eta_max_factor);
         if (c & TS_C27) item(buf, len, "(27) %g h/vmax < dt", p->shock_velocity_cfl);
     } else if (c & TS_DECREASE_ANY) {
         if (c & TS_C20) item(buf, len, "(20) %g sqrt(h/Fmax) < dt", p->decrease_force);

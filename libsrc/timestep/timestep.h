@@ -124,6 +124,19 @@ void ts_init(ts_state *s, double dt0);
 double ts_initial(const ts_params *p, double h, double v0max, double g_norm, double height,
                   char *rule, size_t len);
 
+/* Initial step of a fluid at rest under gravity, from the pressure it must
+ * hold (not in the paper, which assumes a moving fluid).  PCISPH rebuilds
+ * the pressure from zero in each step, so a column of height H settles at
+ * the compression that gives rho0 g H in `iterations` corrections:
+ * rho_err(bottom) = rho0 g H / (k delta(dt)), with delta(dt) = delta_unit /
+ * dt^2 (eq. 4, 5; delta_unit is delta for dt = 1 s).  Returns the dt at
+ * which the column's average compression is eta_avg / 2, half the (18)
+ * threshold, so the controller starts below the step it will settle at
+ * (the paper's advice: underestimate the initial step).  HUGE_VAL when an
+ * input is missing. */
+double ts_initial_pressure(double eta_avg, int iterations, double delta_unit, double g_norm,
+                           double height);
+
 /* What the solver measured in the step just taken (pcs_stats). */
 typedef struct ts_obs {
     double err_avg, err_max; /* rho_err avg and max, fractions of rho0 */

@@ -38,6 +38,54 @@ static int run_case(const char *name, const char *extra)
     return system(cmd);
 }
 
+/* Copy src (a folder under the repository) to tests/output/<name>, apply
+ * the shell commands `edit` inside it, run the solver; returns its status. */
+static int run_edited(const char *src, const char *name, const char *edit)
+{
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd,
+             "rm -rf tests/output/%s && mkdir -p tests/output && cp -r %s tests/output/%s && "
+             "(cd tests/output/%s && %s) && %s/pcisph -case tests/output/%s -quiet "
+             "> tests/output/%s/log.pcisph 2>&1",
+             name, src, name, name, edit, bin_dir(), name, name);
+    return system(cmd);
+}
+
+/* Rows of postProcessing/timeStep/0/timeStep.dat (10 columns). */
+typedef struct record {
+    size_t n;
+    double (*row)[10];
+} record;
+
+static record read_record(const char *name, const char *start)
+{
+    char path[512], line[1024];
+    record r = {0, NULL};
+    size_t cap = 0;
+    snprintf(path, sizeof path, "tests/output/%s/postProcessing/timeStep/%s/timeStep.dat", name, start);
+    FILE *f = fopen(path, "r");
+    if (!f) fail_msg("no record %s", path);
+    while (fgets(line, sizeof line, f)) {
+        if (line[0] == '#') continue;
+        if (r.n == cap) {
+            cap = cap ? 2 * cap : 1024;
+            r.row = realloc(r.row, cap * sizeof *r.row);
+        }
+        char *s = line;
+        for (int k = 0; k < 10; k++) r.row[r.n][k] = strtod(s, &s);
+        r.n++;
+    }
+    fclose(f);
+    return r;
+}
+
+static int files_equal(const char *a, const char *b)
+{
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "cmp -s %s %s", a, b);
+    return system(cmd) == 0;
+}
+
 static facts inspect(const char *name, const char *args)
 {
     char cmd[1024], line[256];
@@ -132,11 +180,105 @@ static void test_dam_break_short(void **state)
     assert_true(record_max("damBreakShort", 3, 0.0) < 1.0);
 }
 
+/* The Shock scene (coarse) in adaptive mode: the impact is detected as a
+ * shock and handled; accepted steps keep rho_err_max below eta_max = 10 %;
+ * outside shocks the controller changes dt by 0.2 % at most. */
+static void test_shock_adaptive(void **state)
+{
+    (void)state;
+    assert_int_equal(run_edited("cases/shock", "shock",
+                                "sed -i 's/^r0 .*/r0 0.03;/' constant/fluidProperties && "
+                                "sed -i 's/^endTime .*/endTime 0.7;/; s/^writeInterval .*/writeInterval 0.1;/' "
+                                "system/controlDict"),
+                     0);
+    record r = read_record("shock", "0");
+    int shocks = 0;
+    for (size_t i = 0; i < r.n; i++) {
+        double *row = r.row[i];
+        assert_true(isfinite(row[4]) && isfinite(row[5]));
+        if (row[7] != 0.0) { shocks++; continue; }
+        assert_true(row[4] < 10.0); /* rhoErrMax, percent */
+        if (i > 0 && r.row[i - 1][7] == 0.0) {
+            double q = row[9] / r.row[i - 1][9];
+            assert_true(fabs(q - 1.0) < 1e-12 || fabs(q - 1.002) < 1e-12 || fabs(q - 0.998) < 1e-12);
+        }
+    }
+    print_message("shock: %d shocks in %zu steps\n", shocks, r.n);
+    assert_true(shocks >= 1);
+    free(r.row);
+    facts f = inspect("shock", "--lo 0 0 0 --hi 1 1 1.6");
+    assert_int_equal((int)fact(&f, "nan"), 0);
+    assert_int_equal((int)fact(&f, "outside"), 0);
+}
+
+/* The hydrostatic tank in adaptive mode: the step grows from the initial
+ * estimate and the average density error stays below eta. */
+static void test_hydrostatic_adaptive(void **state)
+{
+    (void)state;
+    assert_int_equal(run_edited("tests/cases/hydrostaticTank", "hydrostaticAdaptive",
+                                "printf 'mode adaptive;\\ndeltaT 0;\\n' > system/timeStepDict && "
+                                "sed -i 's/^endTime .*/endTime 0.5;/' system/controlDict"),
+                     0);
+    record r = read_record("hydrostaticAdaptive", "0");
+    assert_true(r.n > 10);
+    assert_true(r.row[r.n - 1][9] > 1.05 * r.row[0][1]);
+    for (size_t i = 0; i < r.n; i++)
+        if (r.row[i][0] > 0.05) assert_true(r.row[i][3] < 1.0);
+    free(r.row);
+}
+
+/* Stopping at a write time and restarting with startFrom latestTime gives
+ * bit-identical output to an uninterrupted run (adaptive mode, so the
+ * controller's state must survive too). */
+static void test_restart_bit_identical(void **state)
+{
+    (void)state;
+    const char *edit = "sed -i 's/^endTime .*/endTime 0.3;/; s/^writeInterval .*/writeInterval 0.1;/' "
+                       "system/controlDict && printf 'mode adaptive;\\ndeltaT 0;\\n' > system/timeStepDict";
+    assert_int_equal(run_edited("tests/cases/damBreakShort", "restartA", edit), 0);
+    assert_int_equal(run_edited("tests/cases/damBreakShort", "restartB",
+                                "sed -i 's/^endTime .*/endTime 0.3;/; s/^writeInterval .*/writeInterval 0.1;/' "
+                                "system/controlDict && printf 'mode adaptive;\\ndeltaT 0;\\n' > "
+                                "system/timeStepDict && sed -i 's/^endTime .*/endTime 0.1;/' system/controlDict"),
+                     0);
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "sed -i 's/^endTime .*/endTime 0.3;/; s/^startFrom .*/startFrom latestTime;/' "
+             "tests/output/restartB/system/controlDict && %s/pcisph -case tests/output/restartB -quiet "
+             "> tests/output/restartB/log.restart 2>&1", bin_dir());
+    assert_int_equal(system(cmd), 0);
+    assert_true(files_equal("tests/output/restartA/0.3/fluid.vtu", "tests/output/restartB/0.3/fluid.vtu"));
+    assert_true(files_equal("tests/output/restartA/0.2/fluid.vtu", "tests/output/restartB/0.2/fluid.vtu"));
+    /* the restarted run's record went to a new folder */
+    record r = read_record("restartB", "0.1");
+    assert_true(r.n > 0 && r.row[0][0] > 0.1);
+    free(r.row);
+}
+
+/* Same case, same result, whatever the thread count. */
+static void test_threads_bit_identical(void **state)
+{
+    (void)state;
+    const char *one = "sed -i 's/^endTime .*/endTime 0.1;/; s/^writeInterval .*/writeInterval 0.1;/; "
+                      "s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict";
+    const char *two = "sed -i 's/^endTime .*/endTime 0.1;/; s/^writeInterval .*/writeInterval 0.1;/; "
+                      "s/^numberOfThreads .*/numberOfThreads 2;/' system/controlDict";
+    assert_int_equal(run_edited("tests/cases/damBreakShort", "threads1", one), 0);
+    assert_int_equal(run_edited("tests/cases/damBreakShort", "threads2", two), 0);
+    assert_true(files_equal("tests/output/threads1/0.1/fluid.vtu", "tests/output/threads2/0.1/fluid.vtu"));
+    assert_true(files_equal("tests/output/threads1/0.1/boundary.vtu", "tests/output/threads2/0.1/boundary.vtu"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_hydrostatic_tank),
         cmocka_unit_test(test_dam_break_short),
+        cmocka_unit_test(test_shock_adaptive),
+        cmocka_unit_test(test_hydrostatic_adaptive),
+        cmocka_unit_test(test_restart_bit_identical),
+        cmocka_unit_test(test_threads_bit_identical),
     };
     return cmocka_run_group_tests_name("cases", tests, NULL, NULL);
 }

@@ -32,7 +32,8 @@
 
 static void assert_has(const char *text, const char *part)
 {
-    if (!text || !strstr(text, part)) fail_msg("expected '%s' in '%s'", part, text ? text : "(null)");
+    if (!text || !strstr(text, part))
+        fail_msg("expected '%s' in '%s'", part, text ? text : "(null)");
 }
 
 /* |a - b| <= tol (this cmocka has no assert_double_equal) */
@@ -144,7 +145,8 @@ static void test_defaults_match_etc(void **state)
         }
         if (ts_param_value(&p, key, &compiled)) fail_msg("%s: unknown key '%s'", ETC, key);
         if (dict_get_scalar(d, key, &file, &err)) fail_msg("%s", err.msg);
-        if (file != compiled) fail_msg("%s: %s is %.17g, compiled default %.17g", ETC, key, file, compiled);
+        if (file != compiled)
+            fail_msg("%s: %s is %.17g, compiled default %.17g", ETC, key, file, compiled);
     }
     size_t nknown = 0;
     for (const char *const *k = ts_keys(); *k; k++, nknown++)
@@ -346,7 +348,7 @@ static void test_shock_ratio_limit(void **state)
     /* A non-finite observation is a shock too. */
     s = fresh(DT);
     o = calm();
-    o.err_max = NAN;
+    o.err_max = (double)NAN;
     assert_int_equal(step(&p, &s, o, &c), TS_SHOCK);
     assert_true(c & TS_NONFINITE);
     assert_true(s.dt == 0.5 * DT);
@@ -546,7 +548,8 @@ static void test_constant_mode(void **state)
         assert_int_equal(a, TS_KEEP);
         assert_true(sc.dt == DT);
         /* the same criteria, without the flags of how the step would change */
-        assert_int_equal(cc, ca & ~(TS_C24_FORCE | TS_C24_VELOCITY | TS_LIMIT_RATIO | TS_LIMIT_MAX));
+        unsigned how = TS_C24_FORCE | TS_C24_VELOCITY | TS_LIMIT_RATIO | TS_LIMIT_MAX;
+        assert_int_equal(cc, ca & ~how);
         base = sc;
     }
     assert_int_equal(base.count.keep, (long)NSEQ);
@@ -599,11 +602,12 @@ static void test_validate_rejects(void **state)
 {
     (void)state;
     ts_params p;
-#define BAD(field, value, key)                            \
-    do {                                                  \
-        p = defaults();                                   \
-        p.field = value;                                  \
-        if (!rejects(&p, ETA, key)) fail_msg("%s = %g accepted", key, (double)(value)); \
+#define BAD(field, value, key)                                       \
+    do {                                                             \
+        p = defaults();                                              \
+        p.field = value;                                             \
+        if (!rejects(&p, ETA, key))                                  \
+            fail_msg("%s = %g accepted", key, (double)(value));      \
     } while (0)
     BAD(increase_force, -0.19, "increaseForce");
     BAD(shock_force, 0.0, "shockForce");
@@ -625,7 +629,7 @@ static void test_validate_rejects(void **state)
     BAD(increase_velocity, 0.41, "increaseVelocity");  /* > decreaseVelocity */
     BAD(increase_avg_density, 1.1, "increaseAvgDensity");
     BAD(increase_max_density, 6.0, "increaseMaxDensity");
-    BAD(delta_t, NAN, "deltaT");
+    BAD(delta_t, (double)NAN, "deltaT");
     BAD(mode, TS_CONSTANT, "deltaT"); /* constant mode needs deltaT */
 #undef BAD
     p = defaults();

@@ -159,6 +159,19 @@ static double initial_step(run *r, char *rule, size_t len)
     const double *g = c->prm.gravity;
     double dt = ts_initial(&c->ts, 2.0 * c->prm.r0, sqrt(v2),
                            sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]), fluid_height(c), rule, len);
+    if (c->ts.mode == TS_ADAPTIVE && !(c->ts.delta_t > 0.0)) {
+        krn_kernel k;
+        const double m = c->prm.rho0 * c->prm.r0 * c->prm.r0 * c->prm.r0, H = fluid_height(c);
+        const double gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        krn_init(&k, 2.0 * c->prm.r0);
+        double dtp = ts_initial_pressure(c->prm.eta, c->ts.iterations,
+                                         pcs_delta(&k, c->prm.r0, m, c->prm.rho0, 1.0), gn, H);
+        if (dtp < dt && dtp >= c->ts.delta_t_min) {
+            dt = dtp;
+            snprintf(rule, len, "hydrostatic pressure: a %g m column held with %d iterations at "
+                                "an average compression of eta/2", H, c->ts.iterations);
+        }
+    }
     if (!(dt > 0.0))
         sl_fatal("%s/system/timeStepDict: no initial time step can be estimated (fluid at rest, no "
                  "gravity): give deltaT", c->dir);
@@ -276,7 +289,7 @@ static void advance(run *r)
     unsigned crit = 0;
     double dt_used = r->ctl.dt;
     ts_action a = ts_update(&r->c.ts, &r->ctl, r->c.prm.eta, r->s.h, &o, &crit);
-    rec_step(&r->rec, r->t, step, &st, a == TS_SHOCK, wall);
+    rec_step(&r->rec, r->t, step, &st, a == TS_SHOCK, wall, r->ctl.dt);
     log_step(r, &st, step, a, crit, wall);
     r->iterations += st.iterations;
     r->unconverged += !st.converged;
