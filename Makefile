@@ -39,7 +39,7 @@ APPS     := $(foreach d,$(APPDIRS),$(BIN)/$(notdir $(d)))
 TESTSRC  := $(wildcard tests/unit/test_*.c)
 TESTS    := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TESTSRC))
 
-.PHONY: all debug test test-unit test-cases test-debug demo bench clean format
+.PHONY: all debug test test-unit test-cases test-debug demo bench bench-timestep clean format
 all: $(APPS) $(TESTS)
 
 # One static library per libsrc/<module>.
@@ -87,6 +87,9 @@ demo:
 
 bench: $(BIN)/benchPcisph
 	@tests/bench/run_bench $(BIN)
+
+bench-timestep: $(BIN)/pcisph
+	@tests/bench/run_bench_timestep $(BIN)
 
 format:
 	clang-format -i $$(git ls-files '*.c' '*.h')

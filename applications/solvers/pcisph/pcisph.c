@@ -14,6 +14,7 @@
 #include "case/case_record.h"
 #include "case/case_restart.h"
 #include "core/sl_log.h"
+#include "functionObjects/fo.h"
 #include "io/time_dir.h"
 #include "solver/pcisph.h"
 #include "solver/pcs_snapshot.h"
@@ -41,6 +42,7 @@ typedef struct run {
     int quiet;
     /* totals */
     double iterations, max_err_avg, max_err_max, wall0;
+    double active_ratio;       /* sum over accepted steps of active boundary / fluid */
     long unconverged;
 } run;
 
@@ -310,6 +312,7 @@ static void advance(run *r)
         pcs_set_dt(&r->s, r->ctl.dt);
         return;
     }
+    if (r->s.f->n) r->active_ratio += (double)st.nactive / (double)r->s.f->n;
     if (st.err_avg > r->max_err_avg) r->max_err_avg = st.err_avg;
     if (st.err_max > r->max_err_max) r->max_err_max = st.err_max;
     if (r->s.dt != r->ctl.dt) pcs_set_dt(&r->s, r->ctl.dt);
@@ -348,7 +351,8 @@ static void summary(const run *r)
             100 * r->max_err_max);
     if (r->c.ts.mode == TS_CONSTANT)
         sl_info("  %ld steps stopped at maxIterations with rho_err max above eta", r->unconverged);
-    sl_info("  deltaT min %.4g s, max %.4g s", n->dt_min, n->dt_max);
+    sl_info("  deltaT min %.4g s, max %.4g s; active boundary particles per fluid particle %.1f %%",
+            n->dt_min, n->dt_max, steps ? 100 * r->active_ratio / (double)(steps - n->shock) : 0.0);
     sl_info("  phases: search %.2f s, forces %.2f s, predict+collision %.2f s, density %.2f s, "
             "pressure force %.2f s, integrate %.2f s, output+other %.2f s",
             tm->search, tm->forces, tm->predict, tm->density, tm->pressure, tm->integrate,
@@ -375,6 +379,7 @@ int main(int argc, char **argv)
     case_read(&r.c, dir);
     if (r.c.ctl.nthreads > 0) omp_set_num_threads(r.c.ctl.nthreads);
     case_build(&r.c);
+    fo_list *fo = fo_read(&r.c);
     snap_init(&r.back[0]);
     snap_init(&r.back[1]);
     char rule[256] = "restart";
@@ -388,11 +393,13 @@ int main(int argc, char **argv)
     out_init(&r.out, &r.c, r.t);
     rec_open(&r.rec, &r.c, r.t);
     if (!restarted) write_time(&r);
+    fo_execute(fo, &r.s, r.t, r.step, 1);
     r.last_write = r.t;
     r.next_write = next_write_after(&r, r.t);
     while (r.t < r.t_end - 1e-9 * r.ctl.dt) {
         advance(&r);
         poll_write_requests(&r);
+        fo_execute(fo, &r.s, r.t, r.step, r.last_write == r.t);
         progress(&r);
         if (stop_requested) {
             if (r.last_write != r.t) write_time(&r);
@@ -406,6 +413,7 @@ int main(int argc, char **argv)
     out_free(&r.out);
     snap_free(&r.back[0]);
     snap_free(&r.back[1]);
+    fo_free(fo);
     pcs_free(&r.s);
     case_free(&r.c);
     return 0;
