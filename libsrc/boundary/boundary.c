@@ -2,6 +2,9 @@
 #include "boundary/boundary.h"
 
 #include <math.h>
+#include <stdlib.h>
+
+#include "core/sl_mem.h"
 
 /* Sum of W over a square lattice (spacing r0, |i|,|j| <= 4) in the plane
  * z = 0, seen from (0, 0, zq). */
@@ -101,6 +104,113 @@ size_t bnd_collide(const nbr_list *fb, const sl_boundary *b, double r0, double e
             vx[i] = epsilon * (vx[i] - vn * ux);
             vy[i] = epsilon * (vy[i] - vn * uy);
             vz[i] = epsilon * (vz[i] - vn * uz);
+        }
+    }
+    return hits;
+}
+
+/* ---- the reference methods (paper Sec. 4.1) ---- */
+
+const char *bnd_method_name(bnd_method m)
+{
+    switch (m) {
+    case BND_IHMSEN2010: return "ihmsen2010";
+    case BND_BECKER2009: return "becker2009";
+    case BND_HARADA2007: return "harada2007";
+    }
+    return "?";
+}
+
+void bnd_wall_table_build(bnd_wall_table *t, const krn_kernel *k, double r0, double mass,
+                          size_t n)
+{
+    const int reach = (int)ceil(k->h / r0) + 1, noff = 4;
+    t->n = n;
+    t->dmax = k->h;
+    t->inv_step = (double)(n - 1) / t->dmax;
+    t->z = sl_malloc(n * sizeof *t->z, "wall weight table");
+    t->dz = sl_malloc(n * sizeof *t->dz, "wall weight table");
+    for (size_t q = 0; q < n; q++) {
+        double d = (double)q / t->inv_step, s = 0.0;
+        for (int a = 0; a < noff; a++) /* average over in-plane lattice offsets */
+            for (int c = 0; c < noff; c++)
+                for (int i = -reach; i <= reach; i++)
+                    for (int j = -reach; j <= reach; j++)
+                        for (int l = 0; l <= reach; l++) {
+                            double x = (i + (double)a / noff) * r0, y = (j + (double)c / noff) * r0;
+                            double zz = d + l * r0;
+                            s += krn_w(k, sqrt(x * x + y * y + zz * zz));
+                        }
+        t->z[q] = mass * s / (noff * noff);
+    }
+    for (size_t q = 0; q < n; q++) { /* central differences, one-sided at the ends */
+        size_t a = q ? q - 1 : q, c = q + 1 < n ? q + 1 : q;
+        t->dz[q] = (t->z[c] - t->z[a]) * t->inv_step / (double)(c - a);
+    }
+}
+
+void bnd_wall_table_free(bnd_wall_table *t)
+{
+    free(t->z);
+    free(t->dz);
+    t->z = t->dz = NULL;
+}
+
+size_t bnd_collide_becker(const nbr_list *fb, const sl_boundary *b, double r0, double epsilon,
+                          double restitution, size_t n, double *x, double *y, double *z,
+                          double *vx, double *vy, double *vz)
+{
+    size_t hits = 0;
+#pragma omp parallel for schedule(static) reduction(+ : hits)
+    for (size_t i = 0; i < n; i++) {
+        int hit = 0;
+        for (uint32_t q = fb->start[i]; q < fb->start[i + 1]; q++) {
+            uint32_t j = fb->idx[q];
+            double dx = x[i] - b->x[j], dy = y[i] - b->y[j], dz = z[i] - b->z[j];
+            if (dx * dx + dy * dy + dz * dz >= r0 * r0) continue;
+            double dn = dx * b->nx[j] + dy * b->ny[j] + dz * b->nz[j];
+            if (dn >= r0) continue;
+            double push = r0 - dn; /* eq. (8): back to the contact distance */
+            x[i] += push * b->nx[j];
+            y[i] += push * b->ny[j];
+            z[i] += push * b->nz[j];
+            hit = 1;
+            if (vx) { /* eq. (7) */
+                double vn = vx[i] * b->nx[j] + vy[i] * b->ny[j] + vz[i] * b->nz[j];
+                double tx = vx[i] - vn * b->nx[j], ty = vy[i] - vn * b->ny[j], tz = vz[i] - vn * b->nz[j];
+                double nn = vn < 0.0 ? -restitution * vn : vn;
+                vx[i] = epsilon * tx + nn * b->nx[j];
+                vy[i] = epsilon * ty + nn * b->ny[j];
+                vz[i] = epsilon * tz + nn * b->nz[j];
+            }
+        }
+        hits += (size_t)hit;
+    }
+    return hits;
+}
+
+size_t bnd_collide_harada(const nbr_list *fb, const sl_boundary *b, double r0, double epsilon,
+                          size_t n, double *x, double *y, double *z,
+                          double *vx, double *vy, double *vz)
+{
+    size_t hits = 0;
+#pragma omp parallel for schedule(static) reduction(+ : hits)
+    for (size_t i = 0; i < n; i++) {
+        double d;
+        uint32_t j = bnd_nearest(fb, b, i, x[i], y[i], z[i], &d);
+        if (j == UINT32_MAX || d >= r0) continue;
+        double push = r0 - d;
+        x[i] += push * b->nx[j];
+        y[i] += push * b->ny[j];
+        z[i] += push * b->nz[j];
+        hits++;
+        if (vx) {
+            double vn = vx[i] * b->nx[j] + vy[i] * b->ny[j] + vz[i] * b->nz[j];
+            double keep = vn < 0.0 ? 0.0 : vn;
+            double tx = vx[i] - vn * b->nx[j], ty = vy[i] - vn * b->ny[j], tz = vz[i] - vn * b->nz[j];
+            vx[i] = epsilon * tx + keep * b->nx[j];
+            vy[i] = epsilon * ty + keep * b->ny[j];
+            vz[i] = epsilon * tz + keep * b->nz[j];
         }
     }
     return hits;

@@ -210,7 +210,7 @@ static void read_fluid(sl_case *c)
 
 /* ---- constant/boundaryProperties ---- */
 
-static const char *const boundary_keys[] = {"method", "epsilon", "geometry", NULL};
+static const char *const boundary_keys[] = {"method", "epsilon", "restitution", "geometry", NULL};
 static const char *const shape_keys[] = {"type", "min", "max", "centre", "radius", "open", NULL};
 
 static unsigned read_open_faces(const dict *s)
@@ -259,14 +259,18 @@ static void read_shape(sl_case *c, const dict *s)
 
 static void read_boundary(sl_case *c)
 {
-    static const char *const methods[] = {"ihmsen2010", NULL};
+    static const char *const methods[] = {"ihmsen2010", "becker2009", "harada2007", NULL};
     dict *d = read_dict(c, "constant/boundaryProperties");
     sl_err err;
     const char *w;
     dict_warn_unknown(d, boundary_keys);
     need(dict_get_word_or(d, "method", "ihmsen2010", &w, &err), &err);
-    choose(d, "method", w, methods);
+    int m = choose(d, "method", w, methods);
+    c->prm.method = m == 0 ? BND_IHMSEN2010 : m == 1 ? BND_BECKER2009 : BND_HARADA2007;
     snprintf(c->method, sizeof c->method, "%s", w);
+    need(dict_get_scalar_or(d, "restitution", 0.0, &c->prm.restitution, &err), &err);
+    if (!(c->prm.restitution >= 0.0 && c->prm.restitution <= 1.0))
+        bad_value(d, "restitution", "must be in [0, 1]");
     need(dict_get_scalar_or(d, "epsilon", 1.0, &c->prm.epsilon, &err), &err);
     if (!(c->prm.epsilon >= 0.0 && c->prm.epsilon <= 1.0)) bad_value(d, "epsilon", "must be in [0, 1]");
     const dict *geo = dict_sub(d, "geometry");

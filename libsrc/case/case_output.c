@@ -79,17 +79,26 @@ static int write_fluid(const char *path, const pcs_solver *s, const vtk_options 
     const sl_fluid *f = s->f;
     const double rho0 = s->prm.rho0;
     double *derr = sl_alloc_aligned(f->n * sizeof *derr, "density error output");
-    for (size_t i = 0; i < f->n; i++) derr[i] = 100.0 * (f->rho[i] - rho0) / rho0;
+    double *pr = sl_alloc_aligned(f->n * sizeof *pr, "pressure ratio output");
+    double pmax = 0.0;
+    for (size_t i = 0; i < f->n; i++) {
+        derr[i] = 100.0 * (f->rho[i] - rho0) / rho0;
+        if (f->p[i] > pmax) pmax = f->p[i];
+    }
+    /* the paper's Fig. 2 colouring: sqrt(p / p_max(t)) */
+    for (size_t i = 0; i < f->n; i++) pr[i] = pmax > 0.0 ? sqrt(f->p[i] / pmax) : 0.0;
     vtk_field fields[] = {
         {"velocity", 3, VTK_FLOAT64, {f->vx, f->vy, f->vz}},
         {"pressure", 1, VTK_FLOAT64, {f->p, NULL, NULL}},
         {"density", 1, VTK_FLOAT64, {f->rho, NULL, NULL}},
         {"densityError", 1, VTK_FLOAT64, {derr, NULL, NULL}},
+        {"pressureRatio", 1, VTK_FLOAT64, {pr, NULL, NULL}},
         {"id", 1, VTK_UINT32, {f->id, NULL, NULL}},
     };
     int rc = vtk_write_points(path, f->n, f->x, f->y, f->z, fields,
                               sizeof fields / sizeof *fields, opt, err);
     sl_free_aligned(derr);
+    sl_free_aligned(pr);
     return rc;
 }
 

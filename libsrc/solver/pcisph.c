@@ -5,6 +5,8 @@
 #include "core/sl_reduce.h"
 #include "solver/sph_sums.h"
 
+static const pcs_boundary_ops boundary_methods[3];
+
 #include <math.h>
 #include <omp.h>
 #include <string.h>
@@ -53,6 +55,8 @@ void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b,
     s->cal = bnd_calibrate(&s->k, p->r0, s->mass, p->rho0);
     bnd_set_mass(&s->grid, &s->k, &s->cal, p->rho0, b);
     s->active = sl_alloc_aligned((b->n + 1) * sizeof *s->active, "active boundary list");
+    s->bops = &boundary_methods[p->method];
+    if (p->method == BND_HARADA2007) bnd_wall_table_build(&s->wall, &s->k, p->r0, s->mass, 256);
     pcs_set_dt(s, dt);
 }
 
@@ -64,6 +68,9 @@ void pcs_free(pcs_solver *s)
     nbr_list_free(&s->bf);
     sl_free_aligned(s->active);
     sl_free_aligned(s->err);
+    sl_free_aligned(s->wall_d);
+    sl_free_aligned(s->wall_b);
+    if (s->wall.z) bnd_wall_table_free(&s->wall);
     memset(s, 0, sizeof *s);
 }
 
@@ -72,6 +79,12 @@ static void ensure_scratch(pcs_solver *s)
     if (s->err_cap < s->f->cap) {
         sl_free_aligned(s->err);
         s->err = sl_alloc_aligned(s->f->cap * sizeof *s->err, "density error");
+        if (s->prm.method == BND_HARADA2007) {
+            sl_free_aligned(s->wall_d);
+            sl_free_aligned(s->wall_b);
+            s->wall_d = sl_alloc_aligned(s->f->cap * sizeof *s->wall_d, "wall distances");
+            s->wall_b = sl_alloc_aligned(s->f->cap * sizeof *s->wall_b, "wall neighbours");
+        }
         s->err_cap = s->f->cap;
     }
 }
@@ -123,14 +136,15 @@ static void predict_positions(pcs_solver *s)
         f->ys[i] = f->y[i] + dt * vy;
         f->zs[i] = f->z[i] + dt * vz;
     }
-    bnd_collide(&s->fb, s->b, s->prm.r0, s->prm.epsilon, f->n, f->xs, f->ys, f->zs,
-                NULL, NULL, NULL);
+    s->bops->collide(s, f->xs, f->ys, f->zs, NULL, NULL, NULL);
 }
 
 /* Predicted density of fluid and active boundary particles (eq. 13) and
- * pressure update (eq. 3).  Fills s->err with each fluid particle's
+ * pressure update (eq. 3), for boundary method M (a constant: each method
+ * gets its own compiled copy).  Fills s->err with each fluid particle's
  * compression and returns the largest one (absolute units). */
-double pcs_pass_density(pcs_solver *s)
+static inline __attribute__((always_inline)) double density_pass(pcs_solver *s, const bnd_method M,
+                                                                  const int predict)
 {
     sl_fluid *f = s->f;
     sl_boundary *b = s->b;
@@ -140,7 +154,9 @@ double pcs_pass_density(pcs_solver *s)
     const size_t n = f->n;
     const uint32_t *restrict ffs = s->ff.start, *restrict ffi = s->ff.idx;
     const uint32_t *restrict fbs = s->fb.start, *restrict fbi = s->fb.idx;
-    const double *restrict xs = f->xs, *restrict ys = f->ys, *restrict zs = f->zs;
+    /* predict: x*(t + dt) and the pressure update; else x(t), density only */
+    const double *restrict xs = predict ? f->xs : f->x, *restrict ys = predict ? f->ys : f->y,
+                           *restrict zs = predict ? f->zs : f->z;
     const double *restrict bx = b->x, *restrict by = b->y, *restrict bz = b->z;
     const double *restrict bm = b->mass;
     double *restrict rho = f->rho, *restrict p = f->p, *restrict pt = f->pt;
@@ -149,18 +165,29 @@ double pcs_pass_density(pcs_solver *s)
 #pragma omp parallel for schedule(static) reduction(max : emax)
     for (size_t i = 0; i < n; i++) {
         const double xi = xs[i], yi = ys[i], zi = zs[i];
-        const double r = self + m * sph_sum_w(k, ffi, ffs[i], ffs[i + 1], xi, yi, zi, xs, ys, zs) +
-                         sph_sum_mw(k, fbi, fbs[i], fbs[i + 1], xi, yi, zi, bx, by, bz, bm);
+        double r = self + m * sph_sum_w(k, ffi, ffs[i], ffs[i + 1], xi, yi, zi, xs, ys, zs);
+        if (M == BND_IHMSEN2010) /* eq. (13) */
+            r += sph_sum_mw(k, fbi, fbs[i], fbs[i + 1], xi, yi, zi, bx, by, bz, bm);
+        if (M == BND_HARADA2007) { /* wall weight Z(d) [HKK07] */
+            double d = 0.0, z = 0.0, dz = 0.0;
+            uint32_t j = bnd_nearest(&s->fb, b, i, xi, yi, zi, &d);
+            if (j != UINT32_MAX) bnd_wall_lookup(&s->wall, d, &z, &dz);
+            s->wall_b[i] = j;
+            s->wall_d[i] = dz;
+            r += z;
+        }
+        rho[i] = r;
+        if (!predict) continue;
         const double e = r - rho0;
         const double pn = p[i] + delta * e; /* eq. (3) */
         const double pc = pn > 0.0 ? pn : 0.0;
-        rho[i] = r;
         p[i] = pc;
         pt[i] = pc / (r * r);
         const double c = e > 0.0 ? e : 0.0;
         err[i] = c;
         emax = c > emax ? c : emax;
     }
+    if (M != BND_IHMSEN2010 || !predict) return emax;
     const uint32_t *restrict act = s->active;
     const uint32_t *restrict bfs = s->bf.start, *restrict bfi = s->bf.idx;
     const double *restrict brs = b->rho_static;
@@ -179,8 +206,8 @@ double pcs_pass_density(pcs_solver *s)
     return emax;
 }
 
-/* Pressure force per unit mass, eq. (6), over fluid and boundary neighbours. */
-void pcs_pass_pressure(pcs_solver *s)
+/* Pressure force per unit mass, eq. (6), for boundary method M. */
+static inline __attribute__((always_inline)) void pressure_pass(pcs_solver *s, const bnd_method M)
 {
     sl_fluid *f = s->f;
     const sl_boundary *b = s->b;
@@ -197,13 +224,68 @@ void pcs_pass_pressure(pcs_solver *s)
         const double xi = xs[i], yi = ys[i], zi = zs[i];
         double a[3] = {0.0, 0.0, 0.0};
         sph_sum_pressure(k, ffi, ffs[i], ffs[i + 1], xi, yi, zi, pt[i], xs, ys, zs, pt, NULL, m, a);
-        sph_sum_pressure(k, fbi, fbs[i], fbs[i + 1], xi, yi, zi, pt[i], b->x, b->y, b->z, bpt, bm,
-                         0.0, a);
+        if (M == BND_IHMSEN2010) /* boundary pressures, eq. (6) with eq. (13)'s particles */
+            sph_sum_pressure(k, fbi, fbs[i], fbs[i + 1], xi, yi, zi, pt[i], b->x, b->y, b->z, bpt,
+                             bm, 0.0, a);
+        if (M == BND_HARADA2007 && s->wall_b[i] != UINT32_MAX) {
+            /* wall particles carry the fluid particle's own pressure [HKK07]:
+             * -sum_w m_w 2 p_i / rho_i^2 grad W = -2 p_i / rho_i^2 dZ/dd n */
+            const uint32_t j = s->wall_b[i];
+            const double c = -2.0 * pt[i] * s->wall_d[i];
+            a[0] += c * b->nx[j];
+            a[1] += c * b->ny[j];
+            a[2] += c * b->nz[j];
+        }
         apx[i] = a[0];
         apy[i] = a[1];
         apz[i] = a[2];
     }
 }
+
+static double density_ihmsen(pcs_solver *s, int predict)
+{
+    return predict ? density_pass(s, BND_IHMSEN2010, 1) : density_pass(s, BND_IHMSEN2010, 0);
+}
+static double density_becker(pcs_solver *s, int predict)
+{
+    return predict ? density_pass(s, BND_BECKER2009, 1) : density_pass(s, BND_BECKER2009, 0);
+}
+static double density_harada(pcs_solver *s, int predict)
+{
+    return predict ? density_pass(s, BND_HARADA2007, 1) : density_pass(s, BND_HARADA2007, 0);
+}
+static void pressure_ihmsen(pcs_solver *s) { pressure_pass(s, BND_IHMSEN2010); }
+static void pressure_becker(pcs_solver *s) { pressure_pass(s, BND_BECKER2009); }
+static void pressure_harada(pcs_solver *s) { pressure_pass(s, BND_HARADA2007); }
+
+static size_t collide_ihmsen(pcs_solver *s, double *x, double *y, double *z, double *vx,
+                             double *vy, double *vz)
+{
+    return bnd_collide(&s->fb, s->b, s->prm.r0, s->prm.epsilon, s->f->n, x, y, z, vx, vy, vz);
+}
+static size_t collide_becker(pcs_solver *s, double *x, double *y, double *z, double *vx,
+                             double *vy, double *vz)
+{
+    return bnd_collide_becker(&s->fb, s->b, s->prm.r0, s->prm.epsilon, s->prm.restitution,
+                              s->f->n, x, y, z, vx, vy, vz);
+}
+static size_t collide_harada(pcs_solver *s, double *x, double *y, double *z, double *vx,
+                             double *vy, double *vz)
+{
+    return bnd_collide_harada(&s->fb, s->b, s->prm.r0, s->prm.epsilon, s->f->n, x, y, z, vx,
+                              vy, vz);
+}
+
+/* The one place that chooses by boundary method. */
+static const pcs_boundary_ops boundary_methods[3] = {
+    {BND_IHMSEN2010, density_ihmsen, pressure_ihmsen, collide_ihmsen},
+    {BND_BECKER2009, density_becker, pressure_becker, collide_becker},
+    {BND_HARADA2007, density_harada, pressure_harada, collide_harada},
+};
+
+double pcs_pass_density(pcs_solver *s) { return s->bops->density(s, 1); }
+
+void pcs_pass_pressure(pcs_solver *s) { s->bops->pressure(s); }
 
 /* Euler-Cromer, then the world collision (eq. 11, 12); vmax and fmax. */
 static void integrate(pcs_solver *s, pcs_stats *st)
@@ -223,8 +305,7 @@ static void integrate(pcs_solver *s, pcs_stats *st)
         f->y[i] += dt * f->vy[i];
         f->z[i] += dt * f->vz[i];
     }
-    st->ncollide = bnd_collide(&s->fb, s->b, s->prm.r0, s->prm.epsilon, f->n, f->x, f->y, f->z,
-                               f->vx, f->vy, f->vz);
+    st->ncollide = s->bops->collide(s, f->x, f->y, f->z, f->vx, f->vy, f->vz);
 #pragma omp parallel for schedule(static) reduction(max : v2max)
     for (size_t i = 0; i < f->n; i++) {
         double v2 = f->vx[i] * f->vx[i] + f->vy[i] * f->vy[i] + f->vz[i] * f->vz[i];
@@ -277,17 +358,7 @@ void pcs_step(pcs_solver *s, pcs_stats *st)
 
 void pcs_compute_density(pcs_solver *s)
 {
-    sl_fluid *f = s->f;
-    const sl_boundary *b = s->b;
-    const krn_kernel k = s->k;
-    const double m = s->mass, self = m * krn_w(&k, 0.0);
+    ensure_scratch(s);
     pcs_find_neighbours(s);
-    const uint32_t *restrict ffs = s->ff.start, *restrict ffi = s->ff.idx;
-    const uint32_t *restrict fbs = s->fb.start, *restrict fbi = s->fb.idx;
-    const double *restrict x = f->x, *restrict y = f->y, *restrict z = f->z;
-    double *restrict rho = f->rho;
-#pragma omp parallel for schedule(static)
-    for (size_t i = 0; i < f->n; i++)
-        rho[i] = self + m * sph_sum_w(k, ffi, ffs[i], ffs[i + 1], x[i], y[i], z[i], x, y, z) +
-                 sph_sum_mw(k, fbi, fbs[i], fbs[i + 1], x[i], y[i], z[i], b->x, b->y, b->z, b->mass);
+    s->bops->density(s, 0);
 }

@@ -35,6 +35,8 @@ typedef struct pcs_params {
     double eta;           /* tolerated density error, fraction of rho0 (0.01 = 1 %) */
     int min_iter, max_iter;
     double epsilon;       /* eq. (12): tangential velocity kept on contact */
+    bnd_method method;    /* boundary handling (constant/boundaryProperties) */
+    double restitution;   /* becker2009: delta of eq. (7) */
     int viscosity;        /* effect named by the case */
     visc_params visc;
 } pcs_params;
@@ -57,7 +59,21 @@ typedef struct pcs_timers {
     double sort, list_ff, list_bf;   /* parts of search: sorting, fluid rows, boundary rows */
 } pcs_timers;
 
-typedef struct pcs_solver {
+typedef struct pcs_solver pcs_solver;
+
+/* A boundary method's passes (boundary_methods in pcisph.c, the one place
+ * that chooses by method): predicted density with the pressure update,
+ * pressure force, and world collision of positions (and velocities when
+ * vx != NULL). */
+typedef struct pcs_boundary_ops {
+    bnd_method method;
+    double (*density)(pcs_solver *s, int predict); /* predict 0: rho from x(t) only */
+    void (*pressure)(pcs_solver *s);
+    size_t (*collide)(pcs_solver *s, double *x, double *y, double *z, double *vx, double *vy,
+                      double *vz);
+} pcs_boundary_ops;
+
+struct pcs_solver {
     pcs_params prm;
     double h, mass, dt, beta, delta, eta_abs;
     krn_kernel k;
@@ -70,8 +86,12 @@ typedef struct pcs_solver {
     size_t nactive;
     double *err;           /* per-fluid-particle compression (scratch) */
     size_t err_cap;
+    const pcs_boundary_ops *bops;
+    bnd_wall_table wall;   /* harada2007 */
+    double *wall_d;        /* harada2007: distance to the nearest boundary plane */
+    uint32_t *wall_b;      /* harada2007: nearest boundary particle */
     pcs_timers time;
-} pcs_solver;
+};
 
 /* delta of eq. (4) for a prototype particle with a filled neighbourhood
  * on a cubic lattice of spacing r0, with beta of eq. (5). */
