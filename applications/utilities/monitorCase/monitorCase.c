@@ -1,0 +1,250 @@
+/*
+ * monitorCase: watch a run, in the habit of OpenFOAM's foamMonitor -- plots
+ * the per-step record postProcessing/timeStep/<startTime>/timeStep.dat (or
+ * any function-object file) with gnuplot, in the terminal or as a PNG that
+ * is redrawn every few seconds (written atomically, so an image viewer
+ * never shows half a picture).
+ *
+ *   monitorCase [-case <dir>] [-columns a,b] [-png file] [-refresh s] [-idle s] [-once] [<file>]
+ */
+#include "casefiles/casefiles.h"
+#include "core/sl_log.h"
+#include "core/sl_mem.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/ioctl.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+typedef struct options {
+    const char *dir, *file, *columns, *png;
+    double refresh, idle;
+    int once, logy;
+} options;
+
+/* The default picture: one panel per group of columns the record has. */
+static const char *const default_panels[] = {"rhoErrAvg,rhoErrMax", "iterations", "deltaT",
+                                             "vMax"};
+
+static void usage(int status)
+{
+    fprintf(status ? stderr : stdout,
+            "Usage: monitorCase [options] [<file>]\n"
+            "  Plots the per-step record of a case (postProcessing/timeStep/<startTime>/\n"
+            "  timeStep.dat) or any OpenFOAM function-object <file> against its first\n"
+            "  column with gnuplot, redrawing until interrupted (Ctrl-C).  By default\n"
+            "  four panels: density error (rhoErrAvg, rhoErrMax), iterations, deltaT, vMax.\n"
+            "  -case <dir>       the case (default: the current directory)\n"
+            "  -columns <a,b>    plot these columns (names or 1-based numbers) in one panel\n"
+            "  -png <file>       draw into a PNG instead of the terminal\n"
+            "  -refresh <s>      seconds between redraws (default 5)\n"
+            "  -idle <s>         stop when the file has not changed for this long\n"
+            "  -once             draw once and exit\n"
+            "  -logscale         logarithmic y axes\n"
+            "  -help             print this help\n");
+    exit(status);
+}
+
+static double seconds(const char *opt, const char *s)
+{
+    char *end;
+    double v = strtod(s, &end);
+    if (*end || !(v > 0)) {
+        fprintf(stderr, "monitorCase: %s needs a positive number of seconds, not '%s'\n", opt, s);
+        usage(2);
+    }
+    return v;
+}
+
+static options parse_args(int argc, char **argv)
+{
+    options o = {.dir = ".", .refresh = 5};
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "-case") && i + 1 < argc) o.dir = argv[++i];
+        else if (!strcmp(a, "-columns") && i + 1 < argc) o.columns = argv[++i];
+        else if (!strcmp(a, "-png") && i + 1 < argc) o.png = argv[++i];
+        else if (!strcmp(a, "-refresh") && i + 1 < argc) o.refresh = seconds(a, argv[++i]);
+        else if (!strcmp(a, "-idle") && i + 1 < argc) o.idle = seconds(a, argv[++i]);
+        else if (!strcmp(a, "-once")) o.once = 1;
+        else if (!strcmp(a, "-logscale")) o.logy = 1;
+        else if (!strcmp(a, "-help") || !strcmp(a, "--help")) usage(0);
+        else if (a[0] != '-' && !o.file) o.file = a;
+        else {
+            fprintf(stderr, "monitorCase: unknown or incomplete option '%s'\n", a);
+            usage(2);
+        }
+    }
+    return o;
+}
+
+/* ---- drawing ---------------------------------------------------------------- */
+
+/* Column numbers of a comma-separated list; missing ones are left out
+ * (required: an error naming them and the columns there are). */
+static int panel_columns(const cf_table *t, const char *list, int *col, int max, int required,
+                         const char *path)
+{
+    char *copy = sl_strdup(list), *save = NULL;
+    int n = 0;
+    for (char *name = strtok_r(copy, ",", &save); name && n < max;
+         name = strtok_r(NULL, ",", &save)) {
+        int c = cf_table_column(t, name);
+        if (c < 0 && required) {
+            char *names = cf_table_names(t);
+            sl_fatal("%s: no column '%s' (columns: %s)", path, name, names);
+        }
+        if (c >= 0) col[n++] = c;
+    }
+    free(copy);
+    return n;
+}
+
+/* One panel: the given columns against the first one, as inline data. */
+static void draw_panel(FILE *p, const cf_table *t, const int *col, int n)
+{
+    double lo = INFINITY, hi = -INFINITY;
+    for (int k = 0; k < n; k++)
+        for (size_t r = 0; r < t->nrow; r++) {
+            double y = t->v[r * t->ncol + (size_t)col[k]];
+            if (y < lo) lo = y;
+            if (y > hi) hi = y;
+        }
+    if (hi - lo <= 1e-9 * fmax(fabs(lo), fabs(hi))) { /* constant (deltaT): not an empty range */
+        double d = lo != 0 ? 0.05 * fabs(lo) : 1;
+        fprintf(p, "set yrange [%.10g:%.10g]\n", lo - d, hi + d);
+    } else {
+        fputs("set autoscale y\n", p);
+    }
+    fputs("plot ", p);
+    for (int k = 0; k < n; k++) {
+        fprintf(p, "%s'-' using 1:2 with lines lw 2 title ", k ? ", " : "");
+        cf_plot_string(p, t->name[col[k]]);
+    }
+    fputc('\n', p);
+    for (int k = 0; k < n; k++) {
+        for (size_t r = 0; r < t->nrow; r++)
+            fprintf(p, "%.10g %.10g\n", t->v[r * t->ncol], t->v[r * t->ncol + (size_t)col[k]]);
+        fputs("e\n", p);
+    }
+}
+
+static void terminal_size(int *w, int *h)
+{
+    struct winsize ws;
+    *w = 100;
+    *h = 32;
+    if (ioctl(STDOUT_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 20 && ws.ws_row > 10) {
+        *w = ws.ws_col;
+        *h = ws.ws_row - 1;
+    }
+}
+
+/* Draws the table into `out` (a PNG path) or the terminal (out NULL). */
+static void draw(const options *o, const cf_table *t, const char *path, const char *out)
+{
+    const char *single[1] = {o->columns};
+    const char *const *panels = o->columns ? single : default_panels;
+    int npanels = o->columns ? 1 : 4, col[4][16], ncol[4], shown = 0, w, h;
+    sl_err err;
+    for (int i = 0; i < npanels; i++) {
+        ncol[i] = panel_columns(t, panels[i], col[i], 16, o->columns != NULL, path);
+        shown += ncol[i] > 0;
+    }
+    if (!shown) sl_fatal("%s: none of the columns rhoErrAvg, rhoErrMax, iterations, deltaT, vMax: "
+                         "choose some with -columns", path);
+    FILE *p = cf_plot_open(&err);
+    if (!p) sl_fatal("%s", err.msg);
+    if (out) {
+        fprintf(p, "set terminal %s size 1000,%d noenhanced\nset output ", cf_plot_png_terminal(),
+                shown > 1 ? 800 : 500);
+        cf_plot_string(p, out);
+        fputc('\n', p);
+    } else {
+        terminal_size(&w, &h);
+        fprintf(p, "set terminal dumb %d %d\n", w, h);
+    }
+    fprintf(p, "set grid\nset key top left opaque\nset xlabel ");
+    cf_plot_string(p, t->name[0]);
+    fprintf(p, "\n%s", o->logy ? "set logscale y\n" : "");
+    if (shown > 1) {
+        fprintf(p, "set multiplot layout 2,2 title ");
+        cf_plot_string(p, path);
+        fputc('\n', p);
+    } else {
+        fputs("set title ", p);
+        cf_plot_string(p, path);
+        fputc('\n', p);
+    }
+    for (int i = 0; i < npanels; i++)
+        if (ncol[i] > 0) draw_panel(p, t, col[i], ncol[i]);
+    if (shown > 1) fputs("unset multiplot\n", p);
+    if (cf_plot_close(p, &err)) sl_fatal("%s", err.msg);
+}
+
+/* Reads the file and draws it; 0 if it had no rows yet (nothing drawn). */
+static int draw_once(const options *o, const char *path)
+{
+    cf_table t;
+    sl_err err;
+    if (cf_table_read(path, &t, &err)) sl_fatal("%s", err.msg);
+    if (t.nrow == 0) {
+        cf_table_free(&t);
+        return 0;
+    }
+    if (o->png) {
+        char *tmp = sl_malloc(strlen(o->png) + 32, "a path");
+        sprintf(tmp, "%s.tmp.%ld.png", o->png, (long)getpid());
+        draw(o, &t, path, tmp);
+        if (rename(tmp, o->png) != 0) sl_fatal("cannot write '%s': %s", o->png, strerror(errno));
+        free(tmp);
+    } else {
+        if (!o->once && isatty(STDOUT_FILENO)) fputs("\033[H\033[2J", stdout);
+        draw(o, &t, path, NULL);
+    }
+    cf_table_free(&t);
+    return 1;
+}
+
+static time_t modified(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 ? st.st_mtime : 0;
+}
+
+int main(int argc, char **argv)
+{
+    options o = parse_args(argc, argv);
+    sl_err err;
+    char *path = o.file ? sl_strdup(o.file) : cf_record_path(o.dir, &err);
+    time_t last_change = time(NULL), seen = 0;
+    if (!path) sl_fatal("%s", err.msg);
+    for (;;) {
+        int drawn = draw_once(&o, path);
+        if (o.once) {
+            if (!drawn) sl_fatal("%s: no data rows yet", path);
+            break;
+        }
+        if (!drawn) fprintf(stderr, "%s: waiting for data\n", path);
+        else if (o.png) fprintf(stderr, "\rUpdated %s", o.png);
+        time_t whole = (time_t)o.refresh;
+        struct timespec nap = {whole, (long)((o.refresh - (double)whole) * 1e9)};
+        nanosleep(&nap, NULL);
+        time_t m = modified(path);
+        if (m != seen) {
+            seen = m;
+            last_change = time(NULL);
+        } else if (o.idle > 0 && difftime(time(NULL), last_change) >= o.idle) {
+            fprintf(stderr, "\n%s unchanged for %g s: stopping\n", path, o.idle);
+            break;
+        }
+    }
+    if (o.png) printf("Wrote %s\n", o.png);
+    free(path);
+    return 0;
+}

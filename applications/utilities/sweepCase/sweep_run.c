@@ -1,0 +1,262 @@
+/*
+ * sweep_run: one case per point -- cloned from the base case, its values
+ * set in place with libsrc/dictedit -- and the solver run on them, a few at
+ * a time, each writing <case>/log.<application>.  A point whose log holds
+ * the solver's closing "End:" line is finished and is not run again.
+ */
+#include "sweep.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "casefiles/casefiles.h"
+#include "core/sl_log.h"
+#include "core/sl_mem.h"
+#include "dictedit/dictedit.h"
+#include "dictionary/dict.h"
+#include "io/time_dir.h"
+
+static char *sweep_log_path(const sweep *s, const char *dir)
+{
+    char name[300];
+    snprintf(name, sizeof name, "log.%s", s->application);
+    return cf_join(dir, name);
+}
+
+sweep_status sweep_case_status(const sweep *s, size_t point)
+{
+    char *dir = sweep_case_dir(s, point), *log = sweep_log_path(s, dir), *line = NULL;
+    size_t len = 0;
+    sweep_status st = SWEEP_NOT_RUN;
+    FILE *f = fopen(log, "r");
+    if (f) {
+        st = SWEEP_FAILED;
+        while (st != SWEEP_FINISHED && getline(&line, &len, f) >= 0)
+            if (!strncmp(line, "End:", 4)) st = SWEEP_FINISHED;
+        fclose(f);
+    }
+    free(line);
+    free(log);
+    free(dir);
+    return st;
+}
+
+/* ---- preparing a case ------------------------------------------------------------ */
+
+/* The file a set of `entry` in `file` would change: where the entry (or
+ * the dictionary it is added to) is written. */
+static char *sweep_owner(const char *file, const char *entry)
+{
+    sl_err err;
+    dict *d = dict_read_file(file, &err);
+    const dict_entry *e;
+    char *owner, *parent = sl_strdup(entry), *slash;
+    if (!d) sl_fatal("%s", err.msg);
+    e = dict_lookup(d, entry);
+    while (!e && (slash = strrchr(parent, '/'))) {
+        *slash = '\0';
+        e = dict_lookup(d, parent);
+    }
+    owner = sl_strdup(e ? dict_entry_file(e) : file);
+    free(parent);
+    dict_free(d);
+    return owner;
+}
+
+/* An entry written in a file outside the case (an #include of a shared
+ * file) would be changed for every case at once: refused. */
+static void sweep_check_inside(const sweep_param *p, const char *dir, const char *file)
+{
+    char *owner = sweep_owner(file, p->entry);
+    char rd[PATH_MAX], ro[PATH_MAX];
+    if (!realpath(dir, rd) || !realpath(owner, ro))
+        sl_fatal("cannot resolve '%s' or '%s': %s", dir, owner, strerror(errno));
+    size_t n = strlen(rd);
+    if (strncmp(ro, rd, n) != 0 || ro[n] != '/')
+        sl_fatal("parameter '%s' is written in %s, outside the case %s (an #include of a shared "
+                 "file?): a sweep would change it for every case; copy it into the base case",
+                 p->key, owner, dir);
+    free(owner);
+}
+
+void sweep_prepare(const sweep *s, size_t point)
+{
+    char *dir = sweep_case_dir(s, point);
+    sl_err err;
+    if (cf_remove_tree(dir, &err) || tdir_mkdirs(s->cases, &err) ||
+        cf_clone_case(s->base, dir, NULL, &err))
+        sl_fatal("%s", err.msg);
+    for (size_t k = 0; k < s->nparam; k++) {
+        const sweep_param *p = &s->param[k];
+        char *file = cf_join(dir, p->file);
+        sweep_check_inside(p, dir, file);
+        if (dedit_set(file, p->entry, sweep_value(s, point, k), NULL, &err))
+            sl_fatal("case %s: %s", s->name[point], err.msg);
+        free(file);
+    }
+    free(dir);
+}
+
+char *sweep_solver(const sweep *s)
+{
+    sl_err err;
+    char *bin = cf_self_dir(&err), *solver;
+    if (!bin) sl_fatal("%s", err.msg);
+    solver = cf_join(bin, s->application);
+    free(bin);
+    if (access(solver, X_OK) != 0)
+        sl_fatal("no solver '%s' beside sweepCase (application '%s' of %s/system/controlDict): "
+                 "run make",
+                 solver, s->application, s->base);
+    return solver;
+}
+
+/* ---- the job list ------------------------------------------------------------------- */
+
+/* Writes s for a POSIX shell, quoted only when it has to be. */
+static void sweep_shell_word(FILE *f, const char *s)
+{
+    static const char safe[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                               "0123456789_+-./=:@,";
+    if (*s && strspn(s, safe) == strlen(s)) {
+        fputs(s, f);
+        return;
+    }
+    fputc('\'', f);
+    for (; *s; s++) {
+        if (*s == '\'') fputs("'\\''", f);
+        else fputc(*s, f);
+    }
+    fputc('\'', f);
+}
+
+void sweep_print_jobs(const sweep *s, int threads, int force)
+{
+    char *solver = sweep_solver(s);
+    for (size_t i = 0; i < s->npoint; i++) {
+        if (!force && sweep_case_status(s, i) == SWEEP_FINISHED) {
+            fprintf(stderr, "%s: finished already\n", s->name[i]);
+            continue;
+        }
+        sweep_prepare(s, i);
+        char *dir = sweep_case_dir(s, i), *abs = realpath(dir, NULL);
+        char *log = sweep_log_path(s, abs);
+        if (threads > 0) printf("OMP_NUM_THREADS=%d ", threads);
+        sweep_shell_word(stdout, solver);
+        fputs(" -case ", stdout);
+        sweep_shell_word(stdout, abs);
+        fputs(" > ", stdout);
+        sweep_shell_word(stdout, log);
+        fputs(" 2>&1\n", stdout);
+        free(log);
+        free(abs);
+        free(dir);
+    }
+    free(solver);
+}
+
+/* ---- running ------------------------------------------------------------------------ */
+
+typedef struct sweep_job {
+    pid_t pid;
+    size_t point;
+    struct timespec start;
+} sweep_job;
+
+static double sweep_seconds_since(const struct timespec *t0)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)(t.tv_sec - t0->tv_sec) + 1e-9 * (double)(t.tv_nsec - t0->tv_nsec);
+}
+
+static pid_t sweep_launch(const sweep *s, const char *solver, size_t point, int threads)
+{
+    char *dir = sweep_case_dir(s, point), *log = sweep_log_path(s, dir);
+    pid_t pid;
+    fflush(stdout);
+    fflush(stderr);
+    if ((pid = fork()) < 0) sl_fatal("cannot start %s: %s", solver, strerror(errno));
+    if (pid == 0) {
+        int fd = open(log, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+        char n[32];
+        if (fd < 0 || dup2(fd, STDOUT_FILENO) < 0 || dup2(fd, STDERR_FILENO) < 0) _exit(126);
+        if (threads > 0) {
+            snprintf(n, sizeof n, "%d", threads);
+            setenv("OMP_NUM_THREADS", n, 1);
+        }
+        execl(solver, s->application, "-case", dir, (char *)NULL);
+        fprintf(stderr, "sweepCase: cannot run %s: %s\n", solver, strerror(errno));
+        _exit(127);
+    }
+    free(log);
+    free(dir);
+    return pid;
+}
+
+static int sweep_report(const sweep *s, const sweep_job *j, int status, size_t done, size_t n)
+{
+    double secs = sweep_seconds_since(&j->start);
+    int ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 &&
+             sweep_case_status(s, j->point) == SWEEP_FINISHED;
+    if (ok) {
+        printf("[%zu/%zu] %s: finished in %.1f s\n", done, n, s->name[j->point], secs);
+    } else {
+        char *dir = sweep_case_dir(s, j->point), *log = sweep_log_path(s, dir);
+        if (WIFSIGNALED(status))
+            printf("[%zu/%zu] %s: killed by signal %d after %.1f s: see %s\n", done, n,
+                   s->name[j->point], WTERMSIG(status), secs, log);
+        else
+            printf("[%zu/%zu] %s: failed (exit status %d) after %.1f s: see %s\n", done, n,
+                   s->name[j->point], WEXITSTATUS(status), secs, log);
+        free(log);
+        free(dir);
+    }
+    fflush(stdout);
+    return !ok;
+}
+
+int sweep_run(const sweep *s, int jobs, int threads, int force)
+{
+    size_t *todo = sl_malloc((s->npoint + 1) * sizeof *todo, "sweep points"), ntodo = 0;
+    sweep_job *run = sl_calloc((size_t)jobs, sizeof *run, "sweep jobs");
+    size_t next = 0, done = 0;
+    int nrun = 0, failed = 0;
+    char *solver = sweep_solver(s);
+    for (size_t i = 0; i < s->npoint; i++)
+        if (force || sweep_case_status(s, i) != SWEEP_FINISHED) todo[ntodo++] = i;
+    printf("Sweep %s: %zu points, %zu to run (%zu finished already), %d at a time", s->path,
+           s->npoint, ntodo, s->npoint - ntodo, jobs);
+    if (threads > 0) printf(", %d threads each", threads);
+    printf("\n");
+    for (size_t i = 0; i < ntodo; i++) sweep_prepare(s, todo[i]); /* errors before any run */
+    while (next < ntodo || nrun > 0) {
+        while (nrun < jobs && next < ntodo) {
+            sweep_job *j = &run[nrun++];
+            j->point = todo[next++];
+            clock_gettime(CLOCK_MONOTONIC, &j->start);
+            j->pid = sweep_launch(s, solver, j->point, threads);
+        }
+        int status, k;
+        pid_t pid = waitpid(-1, &status, 0);
+        if (pid < 0) {
+            if (errno == EINTR) continue;
+            sl_fatal("waiting for the solver runs: %s", strerror(errno));
+        }
+        for (k = 0; k < nrun && run[k].pid != pid; k++) continue;
+        if (k == nrun) continue; /* not one of ours */
+        failed += sweep_report(s, &run[k], status, ++done, ntodo);
+        run[k] = run[--nrun];
+    }
+    free(solver);
+    free(run);
+    free(todo);
+    return failed;
+}

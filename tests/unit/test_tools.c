@@ -1,0 +1,468 @@
+/* Tests of the case tools: editDictionary, cloneCase, listTimes, cleanCase,
+ * sweepCase, plotSweep and monitorCase, run as programs (from $SLUICE_BIN,
+ * default bin/) on files written under tests/output/tools/.  The sweep test
+ * runs the solver on a tiny hydrostatic tank (about a second). */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#define OUT "tests/output/tools"
+
+static char output[1 << 16]; /* what the last run printed (stdout and stderr) */
+
+static const char *bin_dir(void)
+{
+    const char *b = getenv("SLUICE_BIN");
+    return b ? b : "bin";
+}
+
+/* Runs a shell command (formatted), keeps its output, returns its status. */
+static int run(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+static int run(const char *fmt, ...)
+{
+    char cmd[4096], full[4200];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(cmd, sizeof cmd, fmt, ap);
+    va_end(ap);
+    snprintf(full, sizeof full, "( %s ) 2>&1", cmd);
+    FILE *p = popen(full, "r");
+    assert_non_null(p);
+    size_t n = fread(output, 1, sizeof output - 1, p);
+    output[n] = '\0';
+    int status = pclose(p);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+}
+
+/* Runs a tool of $SLUICE_BIN with arguments. */
+#define tool(name, ...) run("%s/" name " " __VA_ARGS__)
+
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *s = malloc((size_t)n + 1);
+    assert_int_equal(fread(s, 1, (size_t)n, f), (size_t)n);
+    s[n] = '\0';
+    fclose(f);
+    return s;
+}
+
+static void spit(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+static int exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+static void fresh(const char *dir)
+{
+    assert_int_equal(run("rm -rf %s && mkdir -p %s", dir, dir), 0);
+}
+
+/* ---- editDictionary ---------------------------------------------------------- */
+
+static const char *dict_text =
+    "FoamFile { version 2.0; format ascii; class dictionary; object props; }\n"
+    "/* block comment */\n"
+    "#include \"common\"\n"
+    "rho0            $rhoWater;      // from common\n"
+    "eta             1;              // percent\n"
+    "gravity         (0 0 -9.81);\n"
+    "viscosity\n"
+    "{\n"
+    "    alpha       0.05;   // Becker & Teschner\n"
+    "    soundSpeed  20;\n"
+    "}\n"
+    "\n"
+    "// ****** //\n";
+static const char *common_text = "// shared\nrhoWater   1000;   // kg/m^3\n";
+
+static void write_dict(void)
+{
+    fresh(OUT "/dict");
+    spit(OUT "/dict/props", dict_text);
+    spit(OUT "/dict/common", common_text);
+}
+
+/* The text with the first `from` replaced by `to`. */
+static char *replaced(const char *text, const char *from, const char *to)
+{
+    const char *at = strstr(text, from);
+    assert_non_null(at);
+    char *s = malloc(strlen(text) + strlen(to) + 1);
+    sprintf(s, "%.*s%s%s", (int)(at - text), text, to, at + strlen(from));
+    return s;
+}
+
+static void test_edit_set_then_value(void **state)
+{
+    (void)state;
+    write_dict();
+    assert_int_equal(tool("editDictionary", "-entry viscosity/alpha -set 0.1 " OUT "/dict/props",
+                          bin_dir()),
+                     0);
+    assert_int_equal(tool("editDictionary", "-entry viscosity/alpha -value " OUT "/dict/props",
+                          bin_dir()),
+                     0);
+    assert_string_equal(output, "0.1\n");
+    /* only the value's bytes changed: comments, #include, $var as they were */
+    char *text = slurp(OUT "/dict/props"), *want = replaced(dict_text, "0.05;", "0.1;");
+    assert_string_equal(text, want);
+    free(text);
+    free(want);
+    text = slurp(OUT "/dict/common");
+    assert_string_equal(text, common_text);
+    free(text);
+    /* a vector, and -value of an entry given by $var */
+    assert_int_equal(tool("editDictionary", "-entry gravity -set '(0 0 -1.62)' " OUT "/dict/props",
+                          bin_dir()),
+                     0);
+    assert_int_equal(tool("editDictionary", "-entry gravity -value " OUT "/dict/props", bin_dir()),
+                     0);
+    assert_string_equal(output, "(0 0 -1.62)\n");
+    assert_int_equal(tool("editDictionary", "-entry rho0 -value " OUT "/dict/props", bin_dir()), 0);
+    assert_string_equal(output, "1000\n");
+    assert_int_equal(tool("editDictionary", "-entry rho0 " OUT "/dict/props", bin_dir()), 0);
+    assert_non_null(strstr(output, "$rhoWater"));
+}
+
+static void test_edit_set_in_included_file(void **state)
+{
+    (void)state;
+    write_dict();
+    assert_int_equal(tool("editDictionary", "-entry rhoWater -set 998 " OUT "/dict/props",
+                          bin_dir()),
+                     0);
+    assert_non_null(strstr(output, "included file"));
+    char *text = slurp(OUT "/dict/common"), *want = replaced(common_text, "1000", "998");
+    assert_string_equal(text, want);
+    free(text);
+    free(want);
+    text = slurp(OUT "/dict/props");
+    assert_string_equal(text, dict_text);
+    free(text);
+    assert_int_equal(tool("editDictionary", "-entry rho0 -value " OUT "/dict/props", bin_dir()), 0);
+    assert_string_equal(output, "998\n");
+}
+
+static void test_edit_add_entries(void **state)
+{
+    (void)state;
+    write_dict();
+    assert_int_equal(tool("editDictionary", "-entry viscosity/model -set becker " OUT "/dict/props",
+                          bin_dir()),
+                     0);
+    assert_int_equal(tool("editDictionary", "-entry minIterations -set 3 " OUT "/dict/props",
+                          bin_dir()),
+                     0);
+    char *text = slurp(OUT "/dict/props");
+    assert_non_null(strstr(text, "    soundSpeed  20;\n    model       becker;\n}\n"));
+    assert_non_null(strstr(text, "}\nminIterations   3;\n\n// ****** //\n"));
+    free(text);
+    /* the parent dictionary must exist */
+    assert_int_not_equal(tool("editDictionary", "-entry solver/model -set x " OUT "/dict/props",
+                              bin_dir()),
+                         0);
+    assert_non_null(strstr(output, "solver"));
+}
+
+static void test_edit_missing_entry_and_bad_file(void **state)
+{
+    (void)state;
+    write_dict();
+    assert_int_not_equal(tool("editDictionary", "-entry viscosity/alpah -value " OUT "/dict/props",
+                              bin_dir()),
+                         0);
+    assert_non_null(strstr(output, "viscosity/alpah"));
+    assert_non_null(strstr(output, "did you mean 'alpha'"));
+    assert_int_not_equal(tool("editDictionary", "-entry nothing -remove " OUT "/dict/props",
+                              bin_dir()),
+                         0);
+    assert_non_null(strstr(output, "nothing"));
+    spit(OUT "/dict/bad", "a 1;\nb (1 2;\n");
+    assert_int_not_equal(tool("editDictionary", OUT "/dict/bad", bin_dir()), 0);
+    assert_non_null(strstr(output, OUT "/dict/bad:2:"));
+    /* two values, or a value that breaks the file, are refused and change nothing */
+    assert_int_not_equal(tool("editDictionary", "-entry eta -set '1; b 2' " OUT "/dict/props",
+                              bin_dir()),
+                         0);
+    assert_int_not_equal(tool("editDictionary", "-entry eta -set '(1 2' " OUT "/dict/props",
+                              bin_dir()),
+                         0);
+    char *text = slurp(OUT "/dict/props");
+    assert_string_equal(text, dict_text);
+    free(text);
+}
+
+static void test_edit_remove_and_keywords(void **state)
+{
+    (void)state;
+    write_dict();
+    assert_int_equal(tool("editDictionary", "-entry eta -remove " OUT "/dict/props", bin_dir()), 0);
+    const char *eta_line = "eta             1;              // percent\n";
+    char *text = slurp(OUT "/dict/props"), *want = replaced(dict_text, eta_line, "");
+    assert_string_equal(text, want);
+    free(text);
+    free(want);
+    assert_int_equal(tool("editDictionary", "-keywords " OUT "/dict/props", bin_dir()), 0);
+    assert_string_equal(output, "FoamFile\nrhoWater\nrho0\ngravity\nviscosity\n");
+    assert_int_equal(tool("editDictionary", "-keywords -entry viscosity " OUT "/dict/props",
+                          bin_dir()),
+                     0);
+    assert_string_equal(output, "alpha\nsoundSpeed\n");
+    assert_int_equal(tool("editDictionary", "-expand " OUT "/dict/props", bin_dir()), 0);
+    assert_non_null(strstr(output, "rho0            1000;\n"));
+}
+
+/* ---- cloneCase, listTimes, cleanCase ------------------------------------------------ */
+
+/* A case with results: time directories 0 0.1 0.2 0.3, collections, a log,
+ * postProcessing/ and a leftover 0.4.tmp.1. */
+static void fake_case(const char *dir)
+{
+    fresh(dir);
+    assert_int_equal(run("cp -r tests/cases/hydrostaticTank/system tests/cases/hydrostaticTank/"
+                         "constant %s/ && printf '#!/bin/sh\\n' > %s/Allrun && cd %s && "
+                         "for t in 0 0.1 0.2 0.3; do mkdir $t && touch $t/fluid.vtu "
+                         "$t/boundary.vtu; done && mkdir 0.4.tmp.1 postProcessing && "
+                         "touch log.pcisph fluid.vtu.series",
+                         dir, dir, dir),
+                     0);
+    spit(OUT "/pvd_template",
+         "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\"><Collection>\n"
+         "<DataSet timestep=\"0\" file=\"0/fluid.vtu\"/>\n</Collection></VTKFile>\n");
+    assert_int_equal(run("cp " OUT "/pvd_template %s/fluid.pvd", dir), 0);
+}
+
+static void test_clone_copies_input_not_results(void **state)
+{
+    (void)state;
+    fake_case(OUT "/src");
+    run("rm -rf " OUT "/dst");
+    assert_int_equal(tool("cloneCase", OUT "/src " OUT "/dst", bin_dir()), 0);
+    assert_true(exists(OUT "/dst/system/controlDict"));
+    assert_true(exists(OUT "/dst/constant/fluidProperties"));
+    assert_true(exists(OUT "/dst/Allrun"));
+    const char *results[] = {"0", "0.1", "0.4.tmp.1", "postProcessing", "log.pcisph",
+                             "fluid.pvd", "fluid.vtu.series"};
+    for (size_t i = 0; i < sizeof results / sizeof *results; i++) {
+        char p[256];
+        snprintf(p, sizeof p, OUT "/dst/%s", results[i]);
+        if (exists(p)) fail_msg("cloneCase copied the result %s", p);
+    }
+    assert_int_not_equal(tool("cloneCase", OUT "/src " OUT "/dst", bin_dir()), 0);
+    assert_non_null(strstr(output, "-force"));
+    assert_int_equal(tool("cloneCase", "-force " OUT "/src " OUT "/dst", bin_dir()), 0);
+}
+
+static void test_list_times_and_remove(void **state)
+{
+    (void)state;
+    fake_case(OUT "/times");
+    assert_int_equal(tool("listTimes", "-case " OUT "/times", bin_dir()), 0);
+    assert_string_equal(output, "0.1\n0.2\n0.3\n");
+    assert_int_equal(tool("listTimes", "-withZero " OUT "/times", bin_dir()), 0);
+    assert_string_equal(output, "0\n0.1\n0.2\n0.3\n");
+    assert_int_equal(tool("listTimes", "-latestTime " OUT "/times", bin_dir()), 0);
+    assert_string_equal(output, "0.3\n");
+    assert_int_equal(tool("listTimes", "-rm -time 0.1:0.2 " OUT "/times 2>/dev/null", bin_dir()),
+                     0);
+    assert_string_equal(output, "0.1\n0.2\n");
+    assert_false(exists(OUT "/times/0.1") || exists(OUT "/times/0.2"));
+    assert_true(exists(OUT "/times/0") && exists(OUT "/times/0.3"));
+    /* the collections list exactly the times left */
+    char *pvd = slurp(OUT "/times/fluid.pvd"), *series = slurp(OUT "/times/fluid.vtu.series");
+    assert_non_null(strstr(pvd, "\"0/fluid.vtu\""));
+    assert_non_null(strstr(pvd, "\"0.3/fluid.vtu\""));
+    assert_null(strstr(pvd, "0.1/"));
+    assert_null(strstr(series, "0.2/"));
+    assert_non_null(strstr(series, "0.3/fluid.vtu"));
+    free(pvd);
+    free(series);
+    assert_int_equal(tool("listTimes", "-rm " OUT "/times 2>/dev/null", bin_dir()), 0);
+    assert_true(exists(OUT "/times/0") && !exists(OUT "/times/0.3"));
+}
+
+static void test_clean_case(void **state)
+{
+    (void)state;
+    fake_case(OUT "/clean");
+    assert_int_equal(tool("cleanCase", OUT "/clean", bin_dir()), 0);
+    assert_int_equal(run("ls " OUT "/clean | tr '\\n' ' '"), 0);
+    assert_string_equal(output, "Allrun constant system ");
+    /* a 0 with initial conditions keeps them */
+    fake_case(OUT "/clean");
+    spit(OUT "/clean/0/U", "initial velocity\n");
+    assert_int_equal(tool("cleanCase", "-case " OUT "/clean", bin_dir()), 0);
+    assert_int_equal(run("ls " OUT "/clean/0 | tr '\\n' ' '"), 0);
+    assert_string_equal(output, "U ");
+    assert_int_not_equal(tool("cleanCase", OUT, bin_dir()), 0); /* not a case */
+}
+
+/* ---- sweepCase ---------------------------------------------------------------------- */
+
+/* A tiny hydrostatic tank (288 particles, 0.1 s) and a sweep over eta. */
+static void write_sweep(const char *dir, const char *results)
+{
+    char path[256];
+    fresh(dir);
+    assert_int_equal(run("cp -r tests/cases/hydrostaticTank %s/base && cd %s/base && "
+                         "sed -i 's/^endTime .*/endTime 0.1;/; s/^writeInterval .*/writeInterval "
+                         "0.05;/' system/controlDict && "
+                         "sed -i 's/^particleSpacing .*/particleSpacing 0.05;/' "
+                         "constant/fluidProperties",
+                         dir, dir),
+                     0);
+    snprintf(path, sizeof path, "%s/sweepDict", dir);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fprintf(f, "baseCase base;\nparameters\n{\n"
+               "    \"constant/fluidProperties/eta\" (0.1 1);\n}\n%s",
+            results);
+    fclose(f);
+}
+
+static void test_sweep_print_jobs(void **state)
+{
+    (void)state;
+    write_sweep(OUT "/sweepJobs", "");
+    assert_int_equal(tool("sweepCase", "-print-jobs " OUT "/sweepJobs/sweepDict 2>/dev/null",
+                          bin_dir()),
+                     0);
+    char *line2 = strchr(output, '\n');
+    assert_non_null(line2);
+    assert_non_null(strstr(output, "/pcisph -case "));
+    assert_true(strstr(output, "/cases/eta_0.1 > ") && strstr(output, "/cases/eta_1 > "));
+    assert_non_null(strstr(output, "/cases/eta_1/log.pcisph 2>&1\n"));
+    assert_string_equal(strchr(line2 + 1, '\n'), "\n"); /* two lines */
+    assert_int_equal(tool("editDictionary", "-entry eta -value " OUT
+                          "/sweepJobs/cases/eta_0.1/constant/fluidProperties",
+                          bin_dir()),
+                     0);
+    assert_string_equal(output, "0.1\n");
+}
+
+static void test_sweep_collect_fake_results(void **state)
+{
+    (void)state;
+    write_sweep(OUT "/sweepFake", "results (postProcessing/probe/0/probe.dat:p);\n");
+    assert_int_equal(tool("sweepCase", "-print-jobs " OUT "/sweepFake/sweepDict", bin_dir()), 0);
+    const char *names[] = {"eta_0.1", "eta_1"};
+    for (int i = 0; i < 2; i++) {
+        char dir[256], p[320];
+        snprintf(dir, sizeof dir, OUT "/sweepFake/cases/%s", names[i]);
+        assert_int_equal(run("mkdir -p %s/postProcessing/timeStep/0 %s/postProcessing/probe/0",
+                             dir, dir),
+                         0);
+        snprintf(p, sizeof p, "%s/log.pcisph", dir);
+        spit(p, "Time = 0.1\nEnd: 3 steps\n");
+        snprintf(p, sizeof p, "%s/postProcessing/timeStep/0/timeStep.dat", dir);
+        /* steps = rows, wall = sum, mean iterations, max errors, sum of shocks */
+        const char *head = "# Time\tdeltaT\titerations\trhoErrAvg\trhoErrMax\tvMax\tFMax\t"
+                           "shock\twallTime\n";
+        const char *rows = i == 0 ? "0.1\t0.1\t4\t0.05\t0.5\t1\t1\t0\t1.5\n"
+                                    "0.2\t0.1\t6\t0.07\t0.4\t1\t1\t1\t2.5\n"
+                                    "0.3\t0.1\t8\t0.06\t0.6\t1\t1\t1\t3\n"
+                                  : "0.1\t0.1\t3\t0.5\t0.9\t1\t1\t0\t1\n";
+        char record[512];
+        snprintf(record, sizeof record, "%s%s", head, rows);
+        spit(p, record);
+        snprintf(p, sizeof p, "%s/postProcessing/probe/0/probe.dat", dir);
+        spit(p, i == 0 ? "# Time p\n0.1 10\n0.3 12.5\n" : "# Time p\n0.1 20\n");
+    }
+    assert_int_equal(tool("sweepCase", "-collect " OUT "/sweepFake/sweepDict", bin_dir()), 0);
+    char *csv = slurp(OUT "/sweepFake/results.csv");
+    assert_string_equal(csv, "case,eta,status,wallTime,steps,meanIterations,maxRhoErrAvg,"
+                             "maxRhoErrMax,shocks,p\n"
+                             "eta_0.1,0.1,finished,7,3,6,0.07,0.6,2,12.5\n"
+                             "eta_1,1,finished,1,1,3,0.5,0.9,0,20\n");
+    free(csv);
+    char *md = slurp(OUT "/sweepFake/results.md");
+    assert_non_null(strstr(md, "| eta_0.1 | 0.1 | finished | 7 | 3 | 6 | 0.07 | 0.6 | 2 | 12.5 |"));
+    free(md);
+}
+
+/* Reads column `col` (0-based) of row `row` (1-based) of a CSV without quotes. */
+static double csv_number(const char *csv, int row, int col)
+{
+    const char *p = csv;
+    for (int r = 0; r < row; r++) p = strchr(p, '\n') + 1;
+    for (int c = 0; c < col; c++) p = strchr(p, ',') + 1;
+    return strtod(p, NULL);
+}
+
+static void test_sweep_runs_the_solver(void **state)
+{
+    (void)state;
+    write_sweep(OUT "/sweepRun", "");
+    assert_int_equal(tool("sweepCase", "-jobs 2 " OUT "/sweepRun/sweepDict", bin_dir()), 0);
+    assert_non_null(strstr(output, "eta_0.1: finished"));
+    assert_non_null(strstr(output, "eta_1: finished"));
+    char *csv = slurp(OUT "/sweepRun/results.csv");
+    assert_non_null(strstr(csv, "eta_0.1,0.1,finished,"));
+    assert_non_null(strstr(csv, "eta_1,1,finished,"));
+    double err_small = csv_number(csv, 1, 7), err_large = csv_number(csv, 2, 7); /* maxRhoErrMax */
+    assert_true(err_small > 0 && err_small < err_large);
+    free(csv);
+    /* finished points are not run again */
+    assert_int_equal(tool("sweepCase", OUT "/sweepRun/sweepDict", bin_dir()), 0);
+    assert_non_null(strstr(output, "0 to run (2 finished already)"));
+
+    if (run("command -v gnuplot") != 0) {
+        skip();
+        return;
+    }
+    assert_int_equal(tool("plotSweep", "-o " OUT "/sweepRun/plot.png " OUT
+                          "/sweepRun/results.csv wallTime maxRhoErrAvg",
+                          bin_dir()),
+                     0);
+    assert_int_equal(tool("monitorCase", "-case " OUT "/sweepRun/cases/eta_1 -once -png " OUT
+                          "/sweepRun/monitor.png",
+                          bin_dir()),
+                     0);
+    const char *pngs[] = {OUT "/sweepRun/plot.png", OUT "/sweepRun/monitor.png"};
+    for (int i = 0; i < 2; i++) {
+        char *png = slurp(pngs[i]);
+        assert_memory_equal(png, "\x89PNG", 4);
+        free(png);
+    }
+    assert_int_equal(tool("monitorCase", "-case " OUT "/sweepRun/cases/eta_1 -once", bin_dir()), 0);
+    assert_non_null(strstr(output, "rhoErrMax"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_edit_set_then_value),
+        cmocka_unit_test(test_edit_set_in_included_file),
+        cmocka_unit_test(test_edit_add_entries),
+        cmocka_unit_test(test_edit_missing_entry_and_bad_file),
+        cmocka_unit_test(test_edit_remove_and_keywords),
+        cmocka_unit_test(test_clone_copies_input_not_results),
+        cmocka_unit_test(test_list_times_and_remove),
+        cmocka_unit_test(test_clean_case),
+        cmocka_unit_test(test_sweep_print_jobs),
+        cmocka_unit_test(test_sweep_collect_fake_results),
+        cmocka_unit_test(test_sweep_runs_the_solver),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
