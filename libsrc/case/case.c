@@ -108,6 +108,7 @@ static void read_timestep(sl_case *c)
 
 static const char *const fluid_keys[] = {"rho0", "particleSpacing", "gravity", "eta",
                                          "minIterations", "maxIterations", "viscosity",
+                                         "surfaceTension", "surfaceDensityCorrection",
                                          "fluidRegions", NULL};
 static const char *const viscosity_keys[] = {"alpha", "boundaryAlpha", "soundSpeed", "nu",
                                              "boundaryNu", NULL};
@@ -192,6 +193,20 @@ static void read_fluid(sl_case *c)
         const dict *v = dict_sub(d, "viscosity");
         if (!v) bad_value(d, "viscosity", "must be a dictionary { alpha ..; soundSpeed ..; } or { nu ..; }");
         read_viscosity(c, v);
+    }
+    if (dict_has(d, "surfaceTension")) {
+        static const char *const st_keys[] = {"kappa", NULL};
+        const dict *st = dict_sub(d, "surfaceTension");
+        if (!st) bad_value(d, "surfaceTension", "must be a dictionary { kappa ..; }");
+        dict_warn_unknown(st, st_keys);
+        need(dict_get_scalar(st, "kappa", &p->kappa, &err), &err);
+        if (!(p->kappa >= 0.0)) bad_value(st, "kappa", "must be zero or positive");
+        p->surface_tension = p->kappa > 0.0;
+    }
+    if (dict_has(d, "surfaceDensityCorrection")) {
+        /* `surfaceDensityCorrection { }` or `surfaceDensityCorrection on;` */
+        if (dict_sub(d, "surfaceDensityCorrection")) p->surface_density = 1;
+        else need(dict_get_bool(d, "surfaceDensityCorrection", &p->surface_density, &err), &err);
     }
     const dict *regions = dict_sub(d, "fluidRegions");
     if (!regions) bad_value(d, "fluidRegions", "a dictionary of fluid regions is required");

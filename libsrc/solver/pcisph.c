@@ -4,6 +4,7 @@
 #include "core/sl_mem.h"
 #include "core/sl_reduce.h"
 #include "solver/sph_sums.h"
+#include "effects/surface_tension.h"
 
 static const pcs_boundary_ops boundary_methods[3];
 
@@ -56,6 +57,11 @@ void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b,
     bnd_set_mass(&s->grid, &s->k, &s->cal, p->rho0, b);
     s->active = sl_alloc_aligned((b->n + 1) * sizeof *s->active, "active boundary list");
     s->bops = &boundary_methods[p->method];
+    s->eff.on[EFF_GRAVITY] = p->gravity[0] != 0.0 || p->gravity[1] != 0.0 || p->gravity[2] != 0.0;
+    s->eff.on[EFF_VISCOSITY] = p->viscosity;
+    s->eff.on[EFF_SURFACE_TENSION] = p->surface_tension;
+    s->eff.on[EFF_SURFACE_DENSITY] = p->surface_density;
+    for (size_t i = 0; i < f->n; i++) f->rho[i] = p->rho0; /* until the first pass */
     if (p->method == BND_HARADA2007) bnd_wall_table_build(&s->wall, &s->k, p->r0, s->mass, 256);
     pcs_set_dt(s, dt);
 }
@@ -102,21 +108,36 @@ void pcs_find_neighbours(pcs_solver *s)
     t1 = omp_get_wtime(); s->time.list_bf += t1 - t0;
 }
 
-/* Non-pressure forces per unit mass; zero pressure and pressure force. */
+/* Run effect k's body, counting and timing it. */
+#define EFFECT(s, k, body)                                                     \
+    do {                                                                       \
+        double t0_ = omp_get_wtime();                                          \
+        body;                                                                  \
+        (s)->eff.calls[k]++;                                                   \
+        (s)->eff.time[k] += omp_get_wtime() - t0_;                             \
+    } while (0)
+
+/* Non-pressure forces per unit mass (the effects the case named); zero
+ * pressure and pressure force. */
 static void compute_forces(pcs_solver *s)
 {
     sl_fluid *f = s->f;
     const double gx = s->prm.gravity[0], gy = s->prm.gravity[1], gz = s->prm.gravity[2];
+    const int g = s->eff.on[EFF_GRAVITY];
 #pragma omp parallel for schedule(static)
     for (size_t i = 0; i < f->n; i++) {
-        f->ax[i] = gx;
-        f->ay[i] = gy;
-        f->az[i] = gz;
+        f->ax[i] = g ? gx : 0.0;
+        f->ay[i] = g ? gy : 0.0;
+        f->az[i] = g ? gz : 0.0;
         f->apx[i] = f->apy[i] = f->apz[i] = 0.0;
         f->p[i] = 0.0;
     }
-    if (s->prm.viscosity)
-        visc_apply(&s->prm.visc, &s->k, s->mass, s->prm.rho0, f, s->b, &s->ff, &s->fb);
+    if (g) s->eff.calls[EFF_GRAVITY]++;
+    if (s->eff.on[EFF_VISCOSITY])
+        EFFECT(s, EFF_VISCOSITY,
+               visc_apply(&s->prm.visc, &s->k, s->mass, s->prm.rho0, f, s->b, &s->ff, &s->fb));
+    if (s->eff.on[EFF_SURFACE_TENSION])
+        EFFECT(s, EFF_SURFACE_TENSION, st_apply(s->prm.kappa, &s->k, f, &s->ff));
     const uint32_t *act = s->active;
     double *pb = s->b->p;
 #pragma omp parallel for schedule(static)
@@ -162,6 +183,14 @@ static inline __attribute__((always_inline)) double density_pass(pcs_solver *s, 
     double *restrict rho = f->rho, *restrict p = f->p, *restrict pt = f->pt;
     double *restrict err = s->err;
     double emax = 0.0;
+    /* the correction reads the densities of the previous pass (a copy, so
+     * that every thread reads the same values) */
+    const int bk = s->eff.on[EFF_SURFACE_DENSITY];
+    double *restrict rho_prev = f->scratch; /* free outside the sort */
+    if (bk) {
+        memcpy(rho_prev, rho, n * sizeof *rho);
+        s->eff.calls[EFF_SURFACE_DENSITY]++;
+    }
 #pragma omp parallel for schedule(static) reduction(max : emax)
     for (size_t i = 0; i < n; i++) {
         const double xi = xs[i], yi = ys[i], zi = zs[i];
@@ -175,6 +204,14 @@ static inline __attribute__((always_inline)) double density_pass(pcs_solver *s, 
             s->wall_b[i] = j;
             s->wall_d[i] = dz;
             r += z;
+        }
+        if (bk) { /* Bonet & Kulasegaram 2002: r / sum_j V_j W_ij where it is < 1 */
+            double sh = m * (krn_w(&k, 0.0) / rho_prev[i] +
+                             sph_sum_w_over(k, ffi, ffs[i], ffs[i + 1], xi, yi, zi, xs, ys, zs,
+                                            rho_prev));
+            if (M == BND_IHMSEN2010)
+                sh += sph_sum_mw(k, fbi, fbs[i], fbs[i + 1], xi, yi, zi, bx, by, bz, bm) / rho0;
+            if (sh < 1.0 && sh > 0.0) r /= sh;
         }
         rho[i] = r;
         if (!predict) continue;

@@ -23,6 +23,7 @@
 #include <stddef.h>
 
 #include "boundary/boundary.h"
+#include "effects/effects.h"
 #include "effects/viscosity.h"
 #include "kernel/kernel.h"
 #include "neighbours/neighbours.h"
@@ -39,6 +40,9 @@ typedef struct pcs_params {
     double restitution;   /* becker2009: delta of eq. (7) */
     int viscosity;        /* effect named by the case */
     visc_params visc;
+    int surface_tension;  /* effect: Becker & Teschner 2007 cohesion */
+    double kappa;
+    int surface_density;  /* effect: Bonet & Kulasegaram 2002 correction */
 } pcs_params;
 
 /* What one step did (logged every step). Errors are fractions of rho0. */
@@ -91,6 +95,7 @@ struct pcs_solver {
     double *wall_d;        /* harada2007: distance to the nearest boundary plane */
     uint32_t *wall_b;      /* harada2007: nearest boundary particle */
     pcs_timers time;
+    eff_list eff;          /* the effects in use, their calls and times */
 };
 
 /* delta of eq. (4) for a prototype particle with a filled neighbourhood

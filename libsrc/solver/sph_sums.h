@@ -45,6 +45,21 @@ static inline double sph_sum_mw(const krn_kernel k, const uint32_t *restrict idx
     return s;
 }
 
+/* sum_j W(|p - x_j|) / rho_j: with the mass, the Shepard sum of volumes */
+static inline double sph_sum_w_over(const krn_kernel k, const uint32_t *restrict idx, uint32_t q0,
+                                    uint32_t q1, double px, double py, double pz,
+                                    const double *restrict x, const double *restrict y,
+                                    const double *restrict z, const double *restrict rho)
+{
+    double s = 0.0;
+    for (uint32_t q = q0; q < q1; q++) {
+        const uint32_t j = idx[q];
+        const double dx = px - x[j], dy = py - y[j], dz = pz - z[j];
+        s += krn_w(&k, sqrt(dx * dx + dy * dy + dz * dz)) / rho[j];
+    }
+    return s;
+}
+
 /* a += -sum_j m_j (pi + pt_j) grad W(p - x_j): the symmetric pressure
  * force of eq. (6) per unit mass, with pt = p / rho^2.  mj == NULL means
  * every m_j = mconst. */

@@ -90,8 +90,13 @@ static void print_world(const run *r, const char *dt_rule)
     sl_info("  eta                 %g %% of rho0 (eta_max %g %%), iterations %d..%d",
             100 * c->prm.eta, 100 * ts_eta_max(&c->ts, c->prm.eta), c->prm.min_iter,
             c->prm.max_iter);
-    sl_info("  effects             gravity (%g %g %g)%s", c->prm.gravity[0], c->prm.gravity[1],
-            c->prm.gravity[2], c->prm.viscosity ? ", viscosity (Becker & Teschner 2007)" : "");
+    char list[512] = "";
+    size_t off = 0;
+    for (int k = 0; k < EFF_COUNT; k++)
+        if (s->eff.on[k] && off < sizeof list)
+            off += (size_t)snprintf(list + off, sizeof list - off, "%s%s", off ? ", " : "",
+                                    eff_name((eff_kind)k));
+    sl_info("  effects             %s", off ? list : "none");
     sl_info("  threads             %d", omp_get_max_threads());
 }
 
@@ -359,6 +364,10 @@ static void summary(const run *r)
             wall - phases);
     sl_info("  search: sort %.2f s, fluid lists %.2f s, boundary lists %.2f s", tm->sort,
             tm->list_ff, tm->list_bf);
+    for (int k = 0; k < EFF_COUNT; k++)
+        if (r->s.eff.on[k] || r->s.eff.calls[k])
+            sl_info("  effect %-24s %8ld calls %8.2f s", eff_name((eff_kind)k), r->s.eff.calls[k],
+                    r->s.eff.time[k]);
     sl_info("  %.3g particle-steps/s (%d threads)",
             wall > 0 ? (double)r->c.fluid.n * (double)steps / wall : 0.0, omp_get_max_threads());
 }
