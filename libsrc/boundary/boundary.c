@@ -79,7 +79,7 @@ size_t bnd_collide(const nbr_list *fb, const sl_boundary *b, double r0, double e
     size_t hits = 0;
 #pragma omp parallel for schedule(static) reduction(+ : hits)
     for (size_t i = 0; i < n; i++) {
-        double ncx = 0, ncy = 0, ncz = 0, sw = 0, swd = 0;
+        double ncx = 0, ncy = 0, ncz = 0, sw = 0, swd = 0, wvx = 0, wvy = 0, wvz = 0;
         for (uint32_t q = fb->start[i]; q < fb->start[i + 1]; q++) {
             uint32_t j = fb->idx[q];
             double dx = x[i] - b->x[j], dy = y[i] - b->y[j], dz = z[i] - b->z[j];
@@ -90,6 +90,9 @@ size_t bnd_collide(const nbr_list *fb, const sl_boundary *b, double r0, double e
             ncz += w * b->nz[j];
             sw += w;
             swd += w * (r0 - d);
+            wvx += w * b->vx[j]; /* the wall's velocity, same weights */
+            wvy += w * b->vy[j];
+            wvz += w * b->vz[j];
         }
         double len = sqrt(ncx * ncx + ncy * ncy + ncz * ncz);
         if (sw <= 0.0 || len <= 1e-12) continue;
@@ -98,12 +101,16 @@ size_t bnd_collide(const nbr_list *fb, const sl_boundary *b, double r0, double e
         y[i] += s * ncy;
         z[i] += s * ncz;
         hits++;
-        if (vx) { /* eq. (12): keep epsilon times the tangential velocity */
+        if (vx) { /* eq. (12) relative to the wall: keep epsilon times the tangential velocity */
             double ux = ncx / len, uy = ncy / len, uz = ncz / len;
-            double vn = vx[i] * ux + vy[i] * uy + vz[i] * uz;
-            vx[i] = epsilon * (vx[i] - vn * ux);
-            vy[i] = epsilon * (vy[i] - vn * uy);
-            vz[i] = epsilon * (vz[i] - vn * uz);
+            wvx /= sw;
+            wvy /= sw;
+            wvz /= sw;
+            double rx = vx[i] - wvx, ry = vy[i] - wvy, rz = vz[i] - wvz;
+            double vn = rx * ux + ry * uy + rz * uz;
+            vx[i] = wvx + epsilon * (rx - vn * ux);
+            vy[i] = wvy + epsilon * (ry - vn * uy);
+            vz[i] = wvz + epsilon * (rz - vn * uz);
         }
     }
     return hits;
@@ -175,13 +182,14 @@ size_t bnd_collide_becker(const nbr_list *fb, const sl_boundary *b, double r0, d
             y[i] += push * b->ny[j];
             z[i] += push * b->nz[j];
             hit = 1;
-            if (vx) { /* eq. (7) */
-                double vn = vx[i] * b->nx[j] + vy[i] * b->ny[j] + vz[i] * b->nz[j];
-                double tx = vx[i] - vn * b->nx[j], ty = vy[i] - vn * b->ny[j], tz = vz[i] - vn * b->nz[j];
+            if (vx) { /* eq. (7), relative to the wall */
+                double rx = vx[i] - b->vx[j], ry = vy[i] - b->vy[j], rz = vz[i] - b->vz[j];
+                double vn = rx * b->nx[j] + ry * b->ny[j] + rz * b->nz[j];
+                double tx = rx - vn * b->nx[j], ty = ry - vn * b->ny[j], tz = rz - vn * b->nz[j];
                 double nn = vn < 0.0 ? -restitution * vn : vn;
-                vx[i] = epsilon * tx + nn * b->nx[j];
-                vy[i] = epsilon * ty + nn * b->ny[j];
-                vz[i] = epsilon * tz + nn * b->nz[j];
+                vx[i] = b->vx[j] + epsilon * tx + nn * b->nx[j];
+                vy[i] = b->vy[j] + epsilon * ty + nn * b->ny[j];
+                vz[i] = b->vz[j] + epsilon * tz + nn * b->nz[j];
             }
         }
         hits += (size_t)hit;
@@ -204,13 +212,14 @@ size_t bnd_collide_harada(const nbr_list *fb, const sl_boundary *b, double r0, d
         y[i] += push * b->ny[j];
         z[i] += push * b->nz[j];
         hits++;
-        if (vx) {
-            double vn = vx[i] * b->nx[j] + vy[i] * b->ny[j] + vz[i] * b->nz[j];
+        if (vx) { /* relative to the wall */
+            double rx = vx[i] - b->vx[j], ry = vy[i] - b->vy[j], rz = vz[i] - b->vz[j];
+            double vn = rx * b->nx[j] + ry * b->ny[j] + rz * b->nz[j];
             double keep = vn < 0.0 ? 0.0 : vn;
-            double tx = vx[i] - vn * b->nx[j], ty = vy[i] - vn * b->ny[j], tz = vz[i] - vn * b->nz[j];
-            vx[i] = epsilon * tx + keep * b->nx[j];
-            vy[i] = epsilon * ty + keep * b->ny[j];
-            vz[i] = epsilon * tz + keep * b->nz[j];
+            double tx = rx - vn * b->nx[j], ty = ry - vn * b->ny[j], tz = rz - vn * b->nz[j];
+            vx[i] = b->vx[j] + epsilon * tx + keep * b->nx[j];
+            vy[i] = b->vy[j] + epsilon * ty + keep * b->ny[j];
+            vz[i] = b->vz[j] + epsilon * tz + keep * b->nz[j];
         }
     }
     return hits;

@@ -226,7 +226,8 @@ static void read_fluid(sl_case *c)
 /* ---- constant/boundaryProperties ---- */
 
 static const char *const boundary_keys[] = {"method", "epsilon", "restitution", "geometry", NULL};
-static const char *const shape_keys[] = {"type", "min", "max", "centre", "radius", "open", NULL};
+static const char *const shape_keys[] = {"type", "min", "max", "centre", "radius", "open",
+                                         "motion", NULL};
 
 static unsigned read_open_faces(const dict *s)
 {
@@ -255,6 +256,13 @@ static void read_shape(sl_case *c, const dict *s)
     need(dict_get_word(s, "type", &w, &err), &err);
     int kind = choose(s, "type", w, types);
     c->shapes = sl_realloc(c->shapes, (c->nshapes + 1) * sizeof *c->shapes, "geometry");
+    c->motions = sl_realloc(c->motions, (c->nshapes + 1) * sizeof *c->motions, "geometry");
+    memset(&c->motions[c->nshapes], 0, sizeof *c->motions);
+    if (dict_has(s, "motion")) {
+        const dict *m = dict_sub(s, "motion");
+        if (!m) bad_value(s, "motion", "must be a dictionary { type cosine|oscillating|table; ... }");
+        mot_read(&c->motions[c->nshapes], m, c->dir);
+    }
     g = &c->shapes[c->nshapes++];
     memset(g, 0, sizeof *g);
     snprintf(g->name, sizeof g->name, "%s", dict_name(s));
@@ -360,6 +368,8 @@ void case_free(sl_case *c)
 {
     prt_fluid_free(&c->fluid);
     prt_boundary_free(&c->boundary);
+    for (size_t i = 0; i < c->nshapes; i++) mot_free(&c->motions[i]);
+    free(c->motions);
     free(c->shapes);
     free(c->regions);
     free(c->dir);

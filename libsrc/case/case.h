@@ -19,6 +19,7 @@
 #include <stddef.h>
 
 #include "geometry/geometry.h"
+#include "motion/motion.h"
 #include "particles/particles.h"
 #include "solver/pcisph.h"
 #include "timestep/timestep.h"
@@ -43,6 +44,7 @@ typedef struct sl_case {
     pcs_params prm;
     char method[32];
     geo_shape *shapes;
+    mot_motion *motions;       /* one per shape; type MOT_NONE for static bodies */
     size_t nshapes;
     case_region *regions;
     size_t nregions;

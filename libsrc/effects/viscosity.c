@@ -35,7 +35,8 @@ void visc_apply(const visc_params *p, const krn_kernel *k, double mass, double r
             for (uint32_t q = fb->start[i]; q < fb->start[i + 1]; q++) {
                 uint32_t j = fb->idx[q];
                 double dx = f->x[i] - b->x[j], dy = f->y[i] - b->y[j], dz = f->z[i] - b->z[j];
-                double pr = visc_pair(f->vx[i], f->vy[i], f->vz[i], dx, dy, dz, eps_h2);
+                double pr = visc_pair(f->vx[i] - b->vx[j], f->vy[i] - b->vy[j], f->vz[i] - b->vz[j],
+                                      dx, dy, dz, eps_h2);
                 double c = b->mass[j] * nub * pr * krn_gradf(k, sqrt(dx * dx + dy * dy + dz * dz));
                 ax += c * dx;
                 ay += c * dy;

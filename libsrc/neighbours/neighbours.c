@@ -89,6 +89,8 @@ void nbr_grid_free(nbr_grid *g)
     sl_free_aligned(g->bstart);
     sl_free_aligned(g->count);
     sl_free_aligned(g->perm);
+    sl_free_aligned(g->bcell);
+    sl_free_aligned(g->bperm);
     memset(g, 0, sizeof *g);
 }
 
@@ -134,12 +136,28 @@ static void sort_by_cell(nbr_grid *g, size_t n, const double *x, const double *y
 
 void nbr_sort_boundary(nbr_grid *g, sl_boundary *b)
 {
-    uint32_t *cellv = sl_alloc_aligned(b->n * sizeof *cellv, "boundary cells");
-    uint32_t *perm = sl_alloc_aligned(b->n * sizeof *perm, "boundary permutation");
-    sort_by_cell(g, b->n, b->x, b->y, b->z, cellv, g->bstart, perm);
-    prt_boundary_permute(b, perm);
-    sl_free_aligned(cellv);
-    sl_free_aligned(perm);
+    if (g->bperm_cap < b->n) { /* once: moving bodies re-sort every step */
+        sl_free_aligned(g->bcell);
+        sl_free_aligned(g->bperm);
+        g->bcell = sl_alloc_aligned(b->n * sizeof *g->bcell, "boundary cells");
+        g->bperm = sl_alloc_aligned(b->n * sizeof *g->bperm, "boundary permutation");
+        g->bperm_cap = b->n;
+    }
+    sort_by_cell(g, b->n, b->x, b->y, b->z, g->bcell, g->bstart, g->bperm);
+    /* within a cell, by creation index: the order (and so every sum over
+     * boundary neighbours) does not depend on the history of moves, which
+     * keeps restarts of moving scenes bit-identical */
+#pragma omp parallel for schedule(dynamic, 256)
+    for (size_t k = 0; k < g->ncells; k++) {
+        uint32_t *seg = g->bperm + g->bstart[k];
+        uint32_t len = g->bstart[k + 1] - g->bstart[k];
+        for (uint32_t a = 1; a < len; a++) {
+            uint32_t v = seg[a], c = a;
+            while (c > 0 && b->id[seg[c - 1]] > b->id[v]) { seg[c] = seg[c - 1]; c--; }
+            seg[c] = v;
+        }
+    }
+    prt_boundary_permute(b, g->bperm);
 }
 
 void nbr_sort_fluid(nbr_grid *g, sl_fluid *f)

@@ -44,6 +44,8 @@ typedef struct nbr_grid {
     uint32_t *count;          /* scratch, ncells + 1 */
     uint32_t *perm;           /* scratch permutation, fluid capacity */
     size_t perm_cap;
+    uint32_t *bcell, *bperm;  /* scratch for re-sorting moving boundaries */
+    size_t bperm_cap;
 } nbr_grid;
 
 /* One compressed-row neighbour list with per-thread fill buffers. */

@@ -5,7 +5,7 @@
 #include <string.h>
 
 #define FLUID_DOUBLES 18
-#define BOUNDARY_DOUBLES 11
+#define BOUNDARY_DOUBLES 20
 
 static void fluid_doubles(sl_fluid *f, double **a[FLUID_DOUBLES])
 {
@@ -105,7 +105,9 @@ void prt_fluid_permute(sl_fluid *f, const uint32_t *perm)
 static void boundary_doubles(sl_boundary *b, double **a[BOUNDARY_DOUBLES])
 {
     double **list[BOUNDARY_DOUBLES] = {&b->x, &b->y, &b->z, &b->nx, &b->ny, &b->nz,
-                                       &b->mass, &b->rho_static, &b->rho, &b->p, &b->pt};
+                                       &b->mass, &b->rho_static, &b->rho, &b->p, &b->pt,
+                                       &b->vx, &b->vy, &b->vz, &b->x0, &b->y0, &b->z0,
+                                       &b->nx0, &b->ny0, &b->nz0};
     memcpy(a, list, sizeof list);
 }
 
@@ -118,6 +120,7 @@ void prt_boundary_reserve(sl_boundary *b, size_t cap)
     boundary_doubles(b, a);
     for (int k = 0; k < BOUNDARY_DOUBLES; k++) grow_double(a[k], b->n, cap);
     grow_u32(&b->body, b->n, cap);
+    grow_u32(&b->id, b->n, cap);
     b->cap = cap;
 }
 
@@ -127,6 +130,9 @@ void prt_boundary_free(sl_boundary *b)
     boundary_doubles(b, a);
     for (int k = 0; k < BOUNDARY_DOUBLES; k++) sl_free_aligned(*a[k]);
     sl_free_aligned(b->body);
+    sl_free_aligned(b->id);
+    sl_free_aligned(b->scratch);
+    sl_free_aligned(b->scratch_u);
     memset(b, 0, sizeof *b);
 }
 
@@ -142,18 +148,26 @@ void prt_boundary_push(sl_boundary *b, double x, double y, double z,
     b->rho[i] = 0.0;
     b->p[i] = 0.0;
     b->pt[i] = 0.0;
+    b->vx[i] = b->vy[i] = b->vz[i] = 0.0;
+    b->x0[i] = x; b->y0[i] = y; b->z0[i] = z;
+    b->nx0[i] = nx; b->ny0[i] = ny; b->nz0[i] = nz;
     b->body[i] = body;
+    b->id[i] = (uint32_t)i;
 }
 
 void prt_boundary_permute(sl_boundary *b, const uint32_t *perm)
 {
     double **a[BOUNDARY_DOUBLES];
     size_t n = b->n;
-    double *tmp = sl_alloc_aligned(n * sizeof *tmp, "boundary permutation");
-    uint32_t *tmpu = sl_alloc_aligned(n * sizeof *tmpu, "boundary permutation");
+    if (b->scratch_cap < n) { /* once; moving bodies permute every step */
+        sl_free_aligned(b->scratch);
+        sl_free_aligned(b->scratch_u);
+        b->scratch = sl_alloc_aligned(n * sizeof *b->scratch, "boundary permutation");
+        b->scratch_u = sl_alloc_aligned(n * sizeof *b->scratch_u, "boundary permutation");
+        b->scratch_cap = n;
+    }
     boundary_doubles(b, a);
-    for (int k = 0; k < BOUNDARY_DOUBLES; k++) permute_double(*a[k], tmp, perm, n);
-    permute_u32(b->body, tmpu, perm, n);
-    sl_free_aligned(tmp);
-    sl_free_aligned(tmpu);
+    for (int k = 0; k < BOUNDARY_DOUBLES; k++) permute_double(*a[k], b->scratch, perm, n);
+    permute_u32(b->body, b->scratch_u, perm, n);
+    permute_u32(b->id, b->scratch_u, perm, n);
 }

@@ -42,7 +42,14 @@ typedef struct sl_boundary {
     double *rho;              /* predicted density (eq. 13) */
     double *p;                /* pressure */
     double *pt;               /* p / rho^2 */
+    double *vx, *vy, *vz;     /* wall velocity (moving bodies; 0 for static walls) */
+    double *x0, *y0, *z0;     /* position and normal at rest (body frame = world at t = 0) */
+    double *nx0, *ny0, *nz0;
     uint32_t *body;           /* index of the geometry body it samples */
+    uint32_t *id;             /* index at creation: the order within a cell */
+    double *scratch;          /* permutation scratch */
+    uint32_t *scratch_u;
+    size_t scratch_cap;
 } sl_boundary;
 
 void prt_fluid_init(sl_fluid *f);

@@ -352,6 +352,25 @@ static void integrate(pcs_solver *s, pcs_stats *st)
     st->fmax = sqrt(f2max);
 }
 
+void pcs_set_motions(pcs_solver *s, const mot_motion *motions, size_t nbodies)
+{
+    s->motions = motions;
+    s->nbodies = nbodies;
+    s->eff.on[EFF_MOVING_BOUNDARY] = 0;
+    for (size_t k = 0; k < nbodies; k++)
+        if (motions[k].type != MOT_NONE) s->eff.on[EFF_MOVING_BOUNDARY] = 1;
+}
+
+void pcs_move_boundaries(pcs_solver *s, double t)
+{
+    if (!s->eff.on[EFF_MOVING_BOUNDARY]) return;
+    EFFECT(s, EFF_MOVING_BOUNDARY, {
+        for (size_t k = 0; k < s->nbodies; k++)
+            if (s->motions[k].type != MOT_NONE) mot_apply(&s->motions[k], (uint32_t)k, t, s->b);
+        nbr_sort_boundary(&s->grid, s->b);
+    });
+}
+
 void pcs_step(pcs_solver *s, pcs_stats *st)
 {
     sl_fluid *f = s->f;
@@ -360,6 +379,7 @@ void pcs_step(pcs_solver *s, pcs_stats *st)
     double t0 = omp_get_wtime(), t1;
     memset(st, 0, sizeof *st);
     ensure_scratch(s);
+    pcs_move_boundaries(s, s->t + s->dt); /* walls where they are at the end of the step */
 
     pcs_find_neighbours(s);
     t1 = omp_get_wtime(); s->time.search += t1 - t0; t0 = t1;
@@ -391,6 +411,7 @@ void pcs_step(pcs_solver *s, pcs_stats *st)
 
     integrate(s, st);
     t1 = omp_get_wtime(); s->time.integrate += t1 - t0;
+    s->t += s->dt;
 }
 
 void pcs_compute_density(pcs_solver *s)

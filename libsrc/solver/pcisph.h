@@ -26,6 +26,7 @@
 #include "effects/effects.h"
 #include "effects/viscosity.h"
 #include "kernel/kernel.h"
+#include "motion/motion.h"
 #include "neighbours/neighbours.h"
 #include "particles/particles.h"
 
@@ -96,6 +97,9 @@ struct pcs_solver {
     uint32_t *wall_b;      /* harada2007: nearest boundary particle */
     pcs_timers time;
     eff_list eff;          /* the effects in use, their calls and times */
+    const mot_motion *motions; /* per body (pcs_set_motions) */
+    size_t nbodies;
+    double t;              /* time of the state (set by the caller before a step) */
 };
 
 /* delta of eq. (4) for a prototype particle with a filled neighbourhood
@@ -109,7 +113,12 @@ void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b,
 void pcs_free(pcs_solver *s);
 /* Change the time step; recomputes beta and delta (eq. 4, 5). */
 void pcs_set_dt(pcs_solver *s, double dt);
-/* Advance by s->dt. */
+/* Bodies with a prescribed motion (motions[body], MOT_NONE for static
+ * ones); turns the movingBoundary effect on when any body moves. */
+void pcs_set_motions(pcs_solver *s, const mot_motion *motions, size_t nbodies);
+/* Put the moving bodies where they are at time t (and re-sort them). */
+void pcs_move_boundaries(pcs_solver *s, double t);
+/* Advance by s->dt from time s->t (s->t is advanced too). */
 void pcs_step(pcs_solver *s, pcs_stats *st);
 /* The phases of a step, public for benchmarks: sort and build the
  * neighbour lists; one predicted-density + pressure-update pass (returns

@@ -288,6 +288,7 @@ static void advance(run *r)
     remember(r);
     pcs_stats st;
     double ws = omp_get_wtime();
+    r->s.t = r->t;
     pcs_step(&r->s, &st);
     double wall = omp_get_wtime() - ws;
     r->t = last ? target : r->t + step;
@@ -396,6 +397,8 @@ int main(int argc, char **argv)
     int restarted = r.c.ctl.start_from == CASE_LATEST_TIME && restart_from_latest(&r);
     if (!restarted) ts_init(&r.ctl, initial_step(&r, rule, sizeof rule));
     pcs_init(&r.s, &r.c.prm, &r.c.fluid, &r.c.boundary, r.c.lo, r.c.hi, r.ctl.dt);
+    pcs_set_motions(&r.s, r.c.motions, r.c.nshapes);
+    pcs_move_boundaries(&r.s, r.t);
     print_world(&r, rule);
     r.t_end = r.c.ctl.end_time;
     r.wall0 = omp_get_wtime();
