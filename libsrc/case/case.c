@@ -109,7 +109,7 @@ static void read_timestep(sl_case *c)
 static const char *const fluid_keys[] = {"rho0", "particleSpacing", "gravity", "eta",
                                          "minIterations", "maxIterations", "viscosity",
                                          "surfaceTension", "surfaceDensityCorrection",
-                                         "fluidRegions", NULL};
+                                         "fluidRegions", "emitters", NULL};
 static const char *const viscosity_keys[] = {"alpha", "boundaryAlpha", "soundSpeed", "nu",
                                              "boundaryNu", NULL};
 
@@ -166,6 +166,51 @@ static void read_region(sl_case *c, const dict *r)
         if (!(g->hi[k] > g->lo[k])) bad_value(r, "max", "must be larger than min in every component");
 }
 
+static const char *const emitter_keys[] = {"type", "centre", "direction", "size", "radius",
+                                           "speed", "startTime", "endTime", NULL};
+
+static void read_emitter(sl_case *c, const dict *e)
+{
+    static const char *const types[] = {"rectangle", "disc", NULL};
+    sl_err err;
+    const char *w;
+    emt_emitter *m;
+    dict_warn_unknown(e, emitter_keys);
+    need(dict_get_word(e, "type", &w, &err), &err);
+    int disc = choose(e, "type", w, types);
+    c->emitters = sl_realloc(c->emitters, (c->nemitters + 1) * sizeof *c->emitters, "emitters");
+    m = &c->emitters[c->nemitters++];
+    memset(m, 0, sizeof *m);
+    snprintf(m->name, sizeof m->name, "%s", dict_name(e));
+    m->disc = disc;
+    need(dict_get_vector(e, "centre", m->centre, &err), &err);
+    need(dict_get_vector(e, "direction", m->dir, &err), &err);
+    if (!(m->dir[0] * m->dir[0] + m->dir[1] * m->dir[1] + m->dir[2] * m->dir[2] > 0.0))
+        bad_value(e, "direction", "must not be the zero vector");
+    if (disc) {
+        need(dict_get_scalar(e, "radius", &m->radius, &err), &err);
+        positive(e, "radius", m->radius);
+    } else {
+        double *sz = NULL;
+        size_t n = 0;
+        need(dict_get_scalar_list(e, "size", &sz, &n, &err), &err);
+        if (n != 2 || !(sz[0] > 0.0) || !(sz[1] > 0.0)) {
+            free(sz);
+            bad_value(e, "size", "must be two positive widths (a b)");
+        }
+        m->size[0] = sz[0];
+        m->size[1] = sz[1];
+        free(sz);
+    }
+    need(dict_get_scalar(e, "speed", &m->speed, &err), &err);
+    positive(e, "speed", m->speed);
+    need(dict_get_scalar_or(e, "startTime", 0.0, &m->t0, &err), &err);
+    need(dict_get_scalar_or(e, "endTime", INFINITY, &m->t1, &err), &err);
+    m->rho0 = c->prm.rho0;
+    if (emt_setup(m, c->prm.r0) == 0)
+        bad_value(e, disc ? "radius" : "size", "the opening holds no particle at this particleSpacing");
+}
+
 static void read_fluid(sl_case *c)
 {
     static const double g0[3] = {0, 0, -9.81};
@@ -208,9 +253,21 @@ static void read_fluid(sl_case *c)
         if (dict_sub(d, "surfaceDensityCorrection")) p->surface_density = 1;
         else need(dict_get_bool(d, "surfaceDensityCorrection", &p->surface_density, &err), &err);
     }
+    if (dict_has(d, "emitters")) {
+        const dict *em = dict_sub(d, "emitters");
+        if (!em) bad_value(d, "emitters", "must be a dictionary of emitters");
+        for (size_t i = 0; i < dict_size(em); i++) {
+            const dict_entry *e = dict_entry_at(em, i);
+            if (!dict_entry_dict(e))
+                sl_fatal("%s:%d: emitter '%s' must be a dictionary", dict_entry_file(e),
+                         dict_entry_line(e), dict_entry_key(e));
+            read_emitter(c, dict_entry_dict(e));
+        }
+    }
     const dict *regions = dict_sub(d, "fluidRegions");
-    if (!regions) bad_value(d, "fluidRegions", "a dictionary of fluid regions is required");
-    for (size_t i = 0; i < dict_size(regions); i++) {
+    if (!regions && c->nemitters == 0)
+        bad_value(d, "fluidRegions", "a dictionary of fluid regions (or emitters) is required");
+    for (size_t i = 0; regions && i < dict_size(regions); i++) {
         const dict *r = dict_entry_dict(dict_entry_at(regions, i));
         if (!r) {
             const dict_entry *e = dict_entry_at(regions, i);
@@ -219,7 +276,8 @@ static void read_fluid(sl_case *c)
         }
         read_region(c, r);
     }
-    if (c->nregions == 0) bad_value(d, "fluidRegions", "names no fluid region");
+    if (c->nregions == 0 && c->nemitters == 0)
+        bad_value(d, "fluidRegions", "names no fluid region (and there is no emitter)");
     dict_free(d);
 }
 
@@ -358,6 +416,13 @@ void case_build(sl_case *c)
                      "particleSpacing %g)", c->dir, g->name, r0);
         grow_bounds(c->lo, c->hi, g->lo, g->hi);
     }
+    for (size_t e = 0; e < c->nemitters; e++) {
+        const emt_emitter *m = &c->emitters[e];
+        double reach = m->disc ? m->radius : 0.5 * sqrt(m->size[0] * m->size[0] + m->size[1] * m->size[1]);
+        double lo[3], hi[3];
+        for (int k = 0; k < 3; k++) { lo[k] = m->centre[k] - reach; hi[k] = m->centre[k] + reach; }
+        grow_bounds(c->lo, c->hi, lo, hi);
+    }
     if (c->fluid.n > UINT32_MAX / 2 || c->boundary.n > UINT32_MAX / 2)
         sl_fatal("%s: too many particles (%zu fluid, %zu boundary)", c->dir, c->fluid.n,
                  c->boundary.n);
@@ -368,6 +433,8 @@ void case_free(sl_case *c)
 {
     prt_fluid_free(&c->fluid);
     prt_boundary_free(&c->boundary);
+    for (size_t i = 0; i < c->nemitters; i++) emt_free(&c->emitters[i]);
+    free(c->emitters);
     for (size_t i = 0; i < c->nshapes; i++) mot_free(&c->motions[i]);
     free(c->motions);
     free(c->shapes);

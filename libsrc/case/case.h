@@ -20,6 +20,7 @@
 
 #include "geometry/geometry.h"
 #include "motion/motion.h"
+#include "effects/emitter.h"
 #include "particles/particles.h"
 #include "solver/pcisph.h"
 #include "timestep/timestep.h"
@@ -48,6 +49,8 @@ typedef struct sl_case {
     size_t nshapes;
     case_region *regions;
     size_t nregions;
+    emt_emitter *emitters;     /* constant/fluidProperties: emitters { } */
+    size_t nemitters;
     sl_fluid fluid;
     sl_boundary boundary;
     double lo[3], hi[3];       /* scene bounds for the neighbour grid */

@@ -19,6 +19,7 @@
 #include "solver/pcisph.h"
 #include "solver/pcs_snapshot.h"
 #include "timestep/timestep.h"
+#include "effects/emitter.h"
 
 #include <math.h>
 #include <omp.h>
@@ -34,8 +35,14 @@ typedef struct run {
     case_output out;
     case_record rec;
     ts_state ctl;
+    emt_state *emit;           /* per emitter */
+    uint32_t next_id;          /* id of the next emitted particle */
     pcs_snapshot back[2];      /* state at the start of the last two steps */
     ts_state ctl_back[2];
+    emt_state *emit_back[2];
+    uint32_t next_id_back[2];
+    unsigned char *blob;       /* controller + emitter state for restart files */
+    size_t blob_size;
     int nback;                 /* how many of back[] are valid */
     double t, t_end, next_write, last_write;
     long step;
@@ -113,6 +120,22 @@ static void progress(const run *r)
     fflush(stderr);
 }
 
+/* The run's state besides the particles, as one block for restart files:
+ * the controller, the next particle id, the emitters. */
+static void blob_pack(run *r)
+{
+    memcpy(r->blob, &r->ctl, sizeof r->ctl);
+    memcpy(r->blob + sizeof r->ctl, &r->next_id, sizeof r->next_id);
+    memcpy(r->blob + sizeof r->ctl + sizeof r->next_id, r->emit, r->c.nemitters * sizeof *r->emit);
+}
+
+static void blob_unpack(run *r)
+{
+    memcpy(&r->ctl, r->blob, sizeof r->ctl);
+    memcpy(&r->next_id, r->blob + sizeof r->ctl, sizeof r->next_id);
+    memcpy(r->emit, r->blob + sizeof r->ctl + sizeof r->next_id, r->c.nemitters * sizeof *r->emit);
+}
+
 /* Write time directory r->t (density recomputed from x(t), restart file
  * included). */
 static void write_time(run *r)
@@ -122,7 +145,8 @@ static void write_time(run *r)
     pcs_compute_density(&r->s); /* sorts: the snapshot is taken after it */
     snap_init(&snap);
     snap_take(&snap, r->s.f, r->t, r->s.dt, r->step);
-    if (out_write(&r->out, &r->s, r->t, &snap, &r->ctl, sizeof r->ctl, &err))
+    blob_pack(r);
+    if (out_write(&r->out, &r->s, r->t, &snap, r->blob, r->blob_size, &err))
         sl_fatal("%s", err.msg);
     snap_free(&snap);
     r->last_write = r->t;
@@ -163,6 +187,8 @@ static double initial_step(run *r, char *rule, size_t len)
                    c->fluid.vz[i] * c->fluid.vz[i];
         if (a > v2) v2 = a;
     }
+    for (size_t e = 0; e < c->nemitters; e++)
+        if (c->emitters[e].speed * c->emitters[e].speed > v2) v2 = c->emitters[e].speed * c->emitters[e].speed;
     const double *g = c->prm.gravity;
     double dt = ts_initial(&c->ts, 2.0 * c->prm.r0, sqrt(v2),
                            sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]), fluid_height(c), rule, len);
@@ -200,7 +226,8 @@ static int restart_from_latest(run *r)
     size_t len = strlen(r->c.dir) + strlen(l.name[l.n - 1]) + 2;
     char *dir = malloc(len);
     snprintf(dir, len, "%s/%s", r->c.dir, l.name[l.n - 1]);
-    if (rst_read(dir, &r->back[0], &r->ctl, sizeof r->ctl, &err)) sl_fatal("%s", err.msg);
+    if (rst_read(dir, &r->back[0], r->blob, r->blob_size, &err)) sl_fatal("%s", err.msg);
+    blob_unpack(r);
     snap_restore(&r->back[0], &r->c.fluid);
     r->t = r->back[0].time;
     r->step = r->back[0].step;
@@ -245,9 +272,11 @@ static void log_step(const run *r, const pcs_stats *st, double step, ts_action a
 /* Keep the state at the start of this step (ring of two). */
 static void remember(run *r)
 {
-    pcs_snapshot *b = &r->back[r->nback % 2];
-    snap_take(b, r->s.f, r->t, r->s.dt, r->step);
-    r->ctl_back[r->nback % 2] = r->ctl;
+    const int k = r->nback % 2;
+    snap_take(&r->back[k], r->s.f, r->t, r->s.dt, r->step);
+    r->ctl_back[k] = r->ctl;
+    memcpy(r->emit_back[k], r->emit, r->c.nemitters * sizeof *r->emit);
+    r->next_id_back[k] = r->next_id;
     r->nback++;
 }
 
@@ -257,6 +286,8 @@ static void roll_back(run *r)
     int k = r->nback >= 2 ? (r->nback - 2) % 2 : 0;
     snap_restore(&r->back[k], r->s.f);
     ts_rollback(&r->ctl, &r->ctl_back[k]);
+    memcpy(r->emit, r->emit_back[k], r->c.nemitters * sizeof *r->emit);
+    r->next_id = r->next_id_back[k];
     r->t = r->back[k].time;
     r->step = r->back[k].step;
     r->nback = 0; /* the history restarts from here */
@@ -317,6 +348,14 @@ static void advance(run *r)
         roll_back(r);
         pcs_set_dt(&r->s, r->ctl.dt);
         return;
+    }
+    if (r->c.nemitters) {
+        double t0 = omp_get_wtime();
+        for (size_t e = 0; e < r->c.nemitters; e++)
+            emt_emit(&r->c.emitters[e], &r->emit[e], r->t - step, step, r->c.prm.r0, r->s.f,
+                     &r->next_id);
+        r->s.eff.calls[EFF_EMITTER]++;
+        r->s.eff.time[EFF_EMITTER] += omp_get_wtime() - t0;
     }
     if (r->s.f->n) r->active_ratio += (double)st.nactive / (double)r->s.f->n;
     if (st.err_avg > r->max_err_avg) r->max_err_avg = st.err_avg;
@@ -392,12 +431,20 @@ int main(int argc, char **argv)
     fo_list *fo = fo_read(&r.c);
     snap_init(&r.back[0]);
     snap_init(&r.back[1]);
+    r.emit = calloc(r.c.nemitters + 1, sizeof *r.emit);
+    r.emit_back[0] = calloc(r.c.nemitters + 1, sizeof *r.emit);
+    r.emit_back[1] = calloc(r.c.nemitters + 1, sizeof *r.emit);
+    r.blob_size = sizeof r.ctl + sizeof r.next_id + r.c.nemitters * sizeof *r.emit;
+    r.blob = calloc(1, r.blob_size);
+    if (!r.emit || !r.emit_back[0] || !r.emit_back[1] || !r.blob) sl_fatal("out of memory");
+    r.next_id = (uint32_t)r.c.fluid.n;
     char rule[256] = "restart";
     r.t = r.c.ctl.start_time;
     int restarted = r.c.ctl.start_from == CASE_LATEST_TIME && restart_from_latest(&r);
     if (!restarted) ts_init(&r.ctl, initial_step(&r, rule, sizeof rule));
     pcs_init(&r.s, &r.c.prm, &r.c.fluid, &r.c.boundary, r.c.lo, r.c.hi, r.ctl.dt);
     pcs_set_motions(&r.s, r.c.motions, r.c.nshapes);
+    r.s.eff.on[EFF_EMITTER] = r.c.nemitters > 0;
     pcs_move_boundaries(&r.s, r.t);
     print_world(&r, rule);
     r.t_end = r.c.ctl.end_time;
@@ -425,6 +472,10 @@ int main(int argc, char **argv)
     out_free(&r.out);
     snap_free(&r.back[0]);
     snap_free(&r.back[1]);
+    free(r.emit);
+    free(r.emit_back[0]);
+    free(r.emit_back[1]);
+    free(r.blob);
     fo_free(fo);
     pcs_free(&r.s);
     case_free(&r.c);
