@@ -285,6 +285,7 @@ static void read_fluid(sl_case *c)
 
 static const char *const boundary_keys[] = {"method", "epsilon", "restitution", "geometry", NULL};
 static const char *const shape_keys[] = {"type", "min", "max", "centre", "radius", "open",
+                                         "point1", "point2", "origin", "edge1", "edge2",
                                          "motion", NULL};
 
 static unsigned read_open_faces(const dict *s)
@@ -306,7 +307,7 @@ static unsigned read_open_faces(const dict *s)
 
 static void read_shape(sl_case *c, const dict *s)
 {
-    static const char *const types[] = {"container", "box", "sphere", NULL};
+    static const char *const types[] = {"container", "box", "sphere", "cylinder", "plane", NULL};
     sl_err err;
     const char *w;
     geo_shape *g;
@@ -324,7 +325,28 @@ static void read_shape(sl_case *c, const dict *s)
     g = &c->shapes[c->nshapes++];
     memset(g, 0, sizeof *g);
     snprintf(g->name, sizeof g->name, "%s", dict_name(s));
-    g->kind = kind == 0 ? GEO_CONTAINER : kind == 1 ? GEO_BOX : GEO_SPHERE;
+    static const geo_kind kinds[] = {GEO_CONTAINER, GEO_BOX, GEO_SPHERE, GEO_CYLINDER, GEO_PLANE};
+    g->kind = kinds[kind];
+    if (g->kind == GEO_CYLINDER) {
+        need(dict_get_vector(s, "point1", g->p1, &err), &err);
+        need(dict_get_vector(s, "point2", g->p2, &err), &err);
+        need(dict_get_scalar(s, "radius", &g->radius, &err), &err);
+        positive(s, "radius", g->radius);
+        double l2 = 0;
+        for (int k = 0; k < 3; k++) l2 += (g->p2[k] - g->p1[k]) * (g->p2[k] - g->p1[k]);
+        if (!(l2 > 0)) bad_value(s, "point2", "must differ from point1");
+        return;
+    }
+    if (g->kind == GEO_PLANE) {
+        need(dict_get_vector(s, "origin", g->origin, &err), &err);
+        need(dict_get_vector(s, "edge1", g->e1, &err), &err);
+        need(dict_get_vector(s, "edge2", g->e2, &err), &err);
+        double n[3] = {g->e1[1] * g->e2[2] - g->e1[2] * g->e2[1], g->e1[2] * g->e2[0] - g->e1[0] * g->e2[2],
+                       g->e1[0] * g->e2[1] - g->e1[1] * g->e2[0]};
+        if (!(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] > 0))
+            bad_value(s, "edge2", "must not be parallel to edge1 (or zero)");
+        return;
+    }
     if (g->kind == GEO_SPHERE) {
         need(dict_get_vector(s, "centre", g->centre, &err), &err);
         need(dict_get_scalar(s, "radius", &g->radius, &err), &err);

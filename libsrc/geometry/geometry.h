@@ -19,7 +19,7 @@
 
 #include "particles/particles.h"
 
-typedef enum { GEO_CONTAINER, GEO_BOX, GEO_SPHERE } geo_kind;
+typedef enum { GEO_CONTAINER, GEO_BOX, GEO_SPHERE, GEO_CYLINDER, GEO_PLANE } geo_kind;
 
 /* Faces of a box, for the container's `open` list. */
 enum { GEO_XMIN = 1, GEO_XMAX = 2, GEO_YMIN = 4, GEO_YMAX = 8, GEO_ZMIN = 16, GEO_ZMAX = 32 };
@@ -29,7 +29,10 @@ typedef struct geo_shape {
     char name[64];
     double lo[3], hi[3];      /* container (inner walls) and box */
     double centre[3];         /* sphere */
-    double radius;
+    double radius;            /* sphere, cylinder */
+    double p1[3], p2[3];      /* cylinder: axis end points (solid, capped) */
+    double origin[3], e1[3], e2[3]; /* plane: rectangle origin + s e1 + t e2, s, t in [0, 1];
+                                       the fluid is on the side of e1 x e2 */
     unsigned open_faces;      /* container: faces left open (GEO_XMIN | ...) */
 } geo_shape;
 
