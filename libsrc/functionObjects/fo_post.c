@@ -1,0 +1,234 @@
+/* fo_post: time selection and snapshots of written times (see fo_post.h). */
+#include "functionObjects/fo_post.h"
+#include "functionObjects/fo.h"
+
+#include "core/sl_mem.h"
+#include "io/vtk_reader.h"
+#include "kernel/kernel.h"
+#include "neighbours/neighbours.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+/* ---- time selection ---- */
+
+/* A number filling [s, e) (surrounding blanks allowed); empty gives def. */
+static int spec_number(const char *s, const char *e, double def, double *out)
+{
+    while (s < e && isspace((unsigned char)*s)) s++;
+    while (e > s && isspace((unsigned char)e[-1])) e--;
+    if (s == e) {
+        *out = def;
+        return 0;
+    }
+    char buf[64], *end;
+    if ((size_t)(e - s) >= sizeof buf) return 1;
+    memcpy(buf, s, (size_t)(e - s));
+    buf[e - s] = '\0';
+    *out = strtod(buf, &end);
+    return *end != '\0' || !isfinite(*out);
+}
+
+/* Does t match spec?  -1 on a malformed spec. */
+static int spec_match(const char *spec, double t)
+{
+    const char *s = spec;
+    int hit = 0;
+    for (;;) {
+        const char *e = strchr(s, ',');
+        if (!e) e = s + strlen(s);
+        const char *colon = memchr(s, ':', (size_t)(e - s));
+        double a, b, tol = 1e-9 * (1.0 + fabs(t));
+        if (colon) {
+            if (spec_number(s, colon, -INFINITY, &a) || spec_number(colon + 1, e, INFINITY, &b))
+                return -1;
+            if (t >= a - tol && t <= b + tol) hit = 1;
+        } else {
+            if (spec_number(s, e, NAN, &a) || isnan(a)) return -1;
+            if (fabs(t - a) <= tol) hit = 1;
+        }
+        if (!*e) return hit;
+        s = e + 1;
+    }
+}
+
+int fo_post_times(const char *case_dir, const char *spec, int latest, tdir_list *out,
+                  sl_err *err)
+{
+    if (tdir_list_read(case_dir, "fluid.vtu", out, err)) return 1;
+    if (spec && spec_match(spec, 0.0) < 0) {
+        tdir_list_free(out);
+        sl_err_set(err, "-time '%s': expected times and ranges such as 0.5, 0.5:1, :1, 0.5: "
+                        "separated by commas", spec);
+        return 1;
+    }
+    size_t k = 0;
+    for (size_t i = 0; i < out->n; i++) {
+        int keep = latest ? i + 1 == out->n : !spec || spec_match(spec, out->time[i]) == 1;
+        if (!keep) {
+            free(out->name[i]);
+            continue;
+        }
+        out->time[k] = out->time[i];
+        out->name[k++] = out->name[i];
+    }
+    out->n = k;
+    if (k == 0) {
+        tdir_list_free(out);
+        if (spec)
+            sl_err_set(err, "no time directory of '%s' with fluid.vtu matches -time '%s'",
+                       case_dir, spec);
+        else
+            sl_err_set(err, "no time directory with fluid.vtu in '%s'", case_dir);
+        return 1;
+    }
+    return 0;
+}
+
+/* ---- snapshots ---- */
+
+static char *file_path(const sl_case *c, const char *tname, const char *file)
+{
+    size_t n = strlen(c->dir) + strlen(tname) + strlen(file) + 3;
+    char *p = sl_malloc(n, "path");
+    snprintf(p, n, "%s/%s/%s", c->dir, tname, file);
+    return p;
+}
+
+/* The array `name` of ncomp components, or NULL with err filled. */
+static const double *array(const vtkr_file *v, const char *path, const char *name, int ncomp,
+                           sl_err *err)
+{
+    const vtkr_array *a = vtkr_find(v, name);
+    if (!a || a->ncomp != ncomp) {
+        sl_err_set(err, "%s: no point-data array '%s' of %d component%s", path, name, ncomp,
+                   ncomp > 1 ? "s" : "");
+        return NULL;
+    }
+    return a->data;
+}
+
+static int load_fluid(fo_snapshot *sn, const char *path, sl_err *err)
+{
+    vtkr_file v;
+    if (vtkr_read(path, &v, err)) return 1;
+    const double *vel = array(&v, path, "velocity", 3, err);
+    const double *p = vel ? array(&v, path, "pressure", 1, err) : NULL;
+    const double *rho = p ? array(&v, path, "density", 1, err) : NULL;
+    if (!rho) {
+        vtkr_free(&v);
+        return 1;
+    }
+    prt_fluid_reserve(&sn->f, v.npoints ? v.npoints : 1);
+    for (size_t i = 0; i < v.npoints; i++) {
+        const double *x = v.points + 3 * i, *u = vel + 3 * i;
+        prt_fluid_push(&sn->f, x[0], x[1], x[2], u[0], u[1], u[2]);
+        sn->f.p[i] = p[i];
+        sn->f.rho[i] = rho[i];
+    }
+    vtkr_free(&v);
+    return 0;
+}
+
+static int load_boundary(fo_snapshot *sn, const char *path, sl_err *err)
+{
+    vtkr_file v;
+    if (access(path, F_OK) != 0 && errno == ENOENT) {
+        sl_warning("%s does not exist (writeBoundary off?): walls are left out", path);
+        return 0;
+    }
+    if (vtkr_read(path, &v, err)) return 1;
+    const double *p = array(&v, path, "pressure", 1, err);
+    const double *rho = p ? array(&v, path, "density", 1, err) : NULL;
+    const double *m = rho ? array(&v, path, "mass", 1, err) : NULL;
+    if (!m) {
+        vtkr_free(&v);
+        return 1;
+    }
+    prt_boundary_reserve(&sn->b, v.npoints ? v.npoints : 1);
+    for (size_t i = 0; i < v.npoints; i++) {
+        const double *x = v.points + 3 * i;
+        prt_boundary_push(&sn->b, x[0], x[1], x[2], 0.0, 0.0, 0.0, 0);
+        sn->b.p[i] = p[i];
+        sn->b.rho[i] = rho[i];
+        sn->b.mass[i] = m[i];
+    }
+    vtkr_free(&v);
+    return 0;
+}
+
+static void grow_bounds(double lo[3], double hi[3], const double *x, const double *y,
+                        const double *z, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        const double q[3] = {x[i], y[i], z[i]};
+        for (int d = 0; d < 3; d++) {
+            if (q[d] < lo[d]) lo[d] = q[d];
+            if (q[d] > hi[d]) hi[d] = q[d];
+        }
+    }
+}
+
+/* The grid (and the boundary -> fluid lists) the point queries use. */
+static void build_grid(fo_snapshot *sn, unsigned needs)
+{
+    pcs_solver *s = &sn->s;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    grow_bounds(lo, hi, sn->f.x, sn->f.y, sn->f.z, sn->f.n);
+    grow_bounds(lo, hi, sn->b.x, sn->b.y, sn->b.z, sn->b.n);
+    for (int d = 0; d < 3; d++) {
+        if (!(hi[d] >= lo[d])) lo[d] = hi[d] = 0.0; /* no finite position */
+        lo[d] -= s->h;
+        hi[d] += s->h;
+    }
+    nbr_grid_init(&s->grid, lo, hi, s->h, 8 * (sn->f.n + sn->b.n) + ((size_t)1 << 20));
+    nbr_sort_boundary(&s->grid, &sn->b);
+    nbr_sort_fluid(&s->grid, &sn->f);
+    if (needs & FO_NEED_BOUNDARY) {
+        nbr_list_init(&s->bf);
+        s->active = sl_alloc_aligned((sn->b.n + 1) * sizeof *s->active, "active boundary list");
+        nbr_build_bf(&s->grid, &sn->f, &sn->b, &s->bf, s->active, &s->nactive);
+    }
+}
+
+int fo_snapshot_load(fo_snapshot *sn, const sl_case *c, const char *tname, unsigned needs,
+                     sl_err *err)
+{
+    memset(sn, 0, sizeof *sn);
+    prt_fluid_init(&sn->f);
+    prt_boundary_init(&sn->b);
+    pcs_solver *s = &sn->s;
+    s->prm = c->prm;
+    s->h = 2.0 * c->prm.r0;
+    s->mass = c->prm.rho0 * c->prm.r0 * c->prm.r0 * c->prm.r0; /* as pcs_init */
+    s->eta_abs = c->prm.eta * c->prm.rho0;
+    krn_init(&s->k, s->h);
+    s->f = &sn->f;
+    s->b = &sn->b;
+    char *path = file_path(c, tname, "fluid.vtu");
+    int rc = load_fluid(sn, path, err);
+    free(path);
+    if (!rc && (needs & FO_NEED_BOUNDARY)) {
+        path = file_path(c, tname, "boundary.vtu");
+        rc = load_boundary(sn, path, err);
+        free(path);
+    }
+    if (!rc && (needs & (FO_NEED_GRID | FO_NEED_BOUNDARY))) build_grid(sn, needs);
+    if (rc) fo_snapshot_free(sn);
+    return rc;
+}
+
+void fo_snapshot_free(fo_snapshot *sn)
+{
+    pcs_solver *s = &sn->s;
+    if (s->grid.ncells) nbr_grid_free(&s->grid);
+    nbr_list_free(&s->bf);
+    sl_free_aligned(s->active);
+    prt_fluid_free(&sn->f);
+    prt_boundary_free(&sn->b);
+    memset(sn, 0, sizeof *sn);
+}
