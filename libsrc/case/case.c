@@ -3,6 +3,7 @@
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 #include "dictionary/dict.h"
+#include "geometry/mesh.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -143,27 +144,29 @@ static void read_viscosity(sl_case *c, const dict *v)
     p->visc.coef = alpha * h * cs;
     p->visc.coef_boundary = alphab * h * cs;
 }
-static const char *const region_keys[] = {"type", "min", "max", "velocity", NULL};
+static void read_shape_geometry(sl_case *c, const dict *s, geo_shape *g, geo_kind kind, int region);
+
+static const char *const region_keys[] = {"type", "min", "max", "centre", "radius", "point1",
+                                          "point2", "file", "scale", "rotate", "translate",
+                                          "velocity", NULL};
 
 static void read_region(sl_case *c, const dict *r)
 {
-    static const char *const types[] = {"box", NULL};
+    static const char *const types[] = {"box", "sphere", "cylinder", "mesh", NULL};
+    static const geo_kind kinds[] = {GEO_BOX, GEO_SPHERE, GEO_CYLINDER, GEO_MESH};
     static const double zero[3] = {0, 0, 0};
     sl_err err;
     const char *w;
     case_region *g;
     dict_warn_unknown(r, region_keys);
     need(dict_get_word(r, "type", &w, &err), &err);
-    choose(r, "type", w, types);
+    int kind = choose(r, "type", w, types);
     c->regions = sl_realloc(c->regions, (c->nregions + 1) * sizeof *c->regions, "fluid regions");
     g = &c->regions[c->nregions++];
     memset(g, 0, sizeof *g);
     snprintf(g->name, sizeof g->name, "%s", dict_name(r));
-    need(dict_get_vector(r, "min", g->lo, &err), &err);
-    need(dict_get_vector(r, "max", g->hi, &err), &err);
+    read_shape_geometry(c, r, &g->shape, kinds[kind], 1);
     need(dict_get_vector_or(r, "velocity", zero, g->velocity, &err), &err);
-    for (int k = 0; k < 3; k++)
-        if (!(g->hi[k] > g->lo[k])) bad_value(r, "max", "must be larger than min in every component");
 }
 
 static const char *const emitter_keys[] = {"type", "centre", "direction", "size", "radius",
@@ -286,6 +289,7 @@ static void read_fluid(sl_case *c)
 static const char *const boundary_keys[] = {"method", "epsilon", "restitution", "geometry", NULL};
 static const char *const shape_keys[] = {"type", "min", "max", "centre", "radius", "open",
                                          "point1", "point2", "origin", "edge1", "edge2",
+                                         "file", "scale", "rotate", "translate", "side",
                                          "motion", NULL};
 
 static unsigned read_open_faces(const dict *s)
@@ -305,28 +309,57 @@ static unsigned read_open_faces(const dict *s)
     return mask;
 }
 
-static void read_shape(sl_case *c, const dict *s)
+/* A mesh body: file, optional scale / rotate / translate, side. */
+static void read_mesh(sl_case *c, const dict *s, geo_shape *g, int region)
 {
-    static const char *const types[] = {"container", "box", "sphere", "cylinder", "plane", NULL};
+    static const char *const sides[] = {"obstacle", "container", NULL};
+    static const double zero[3] = {0, 0, 0};
     sl_err err;
-    const char *w;
-    geo_shape *g;
-    dict_warn_unknown(s, shape_keys);
-    need(dict_get_word(s, "type", &w, &err), &err);
-    int kind = choose(s, "type", w, types);
-    c->shapes = sl_realloc(c->shapes, (c->nshapes + 1) * sizeof *c->shapes, "geometry");
-    c->motions = sl_realloc(c->motions, (c->nshapes + 1) * sizeof *c->motions, "geometry");
-    memset(&c->motions[c->nshapes], 0, sizeof *c->motions);
-    if (dict_has(s, "motion")) {
-        const dict *m = dict_sub(s, "motion");
-        if (!m) bad_value(s, "motion", "must be a dictionary { type cosine|oscillating|table; ... }");
-        mot_read(&c->motions[c->nshapes], m, c->dir);
+    const char *file, *side;
+    double rot[3], tr[3];
+    need(dict_get_word(s, "file", &file, &err), &err);
+    size_t len = strlen(c->dir) + strlen(file) + 16;
+    char *path = sl_malloc(len, "path");
+    snprintf(path, len, "%s/constant/%s", c->dir, file); /* meshes live in constant/ */
+    g->mesh = sl_malloc(sizeof *g->mesh, "mesh");
+    mesh_init(g->mesh);
+    if (mesh_read(path, g->mesh, &err)) sl_fatal("%s (geometry '%s' in %s)", err.msg, g->name, dict_file(s));
+    if (dict_has(s, "scale")) {
+        double sc[3];
+        const dict_entry *e = dict_lookup(s, "scale");
+        char *txt = dict_entry_value_text(e);
+        int vec = txt && txt[0] == '(';
+        free(txt);
+        if (vec) need(dict_get_vector(s, "scale", sc, &err), &err);
+        else {
+            need(dict_get_scalar(s, "scale", &sc[0], &err), &err);
+            sc[1] = sc[2] = sc[0];
+        }
+        if (mesh_scale(g->mesh, sc, &err)) bad_value(s, "scale", err.msg);
     }
-    g = &c->shapes[c->nshapes++];
-    memset(g, 0, sizeof *g);
+    need(dict_get_vector_or(s, "rotate", zero, rot, &err), &err);
+    need(dict_get_vector_or(s, "translate", zero, tr, &err), &err);
+    if (mesh_rotate(g->mesh, rot, &err)) bad_value(s, "rotate", err.msg);
+    if (mesh_translate(g->mesh, tr, &err)) bad_value(s, "translate", err.msg);
+    need(dict_get_word_or(s, "side", "obstacle", &side, &err), &err);
+    g->mesh_container = region ? 0 : choose(s, "side", side, sides);
+    mesh_report rep;
+    if (mesh_validate(g->mesh, path, region ? MESH_REQUIRE_CLOSED : 0, &rep, &err))
+        sl_fatal("%s (geometry '%s' in %s)", err.msg, g->name, dict_file(s));
+    g->dbound = 2.0 * c->prm.r0;
+    free(path);
+}
+
+/* The shape part of a geometry or fluid-region entry. */
+static void read_shape_geometry(sl_case *c, const dict *s, geo_shape *g, geo_kind kind, int region)
+{
+    sl_err err;
     snprintf(g->name, sizeof g->name, "%s", dict_name(s));
-    static const geo_kind kinds[] = {GEO_CONTAINER, GEO_BOX, GEO_SPHERE, GEO_CYLINDER, GEO_PLANE};
-    g->kind = kinds[kind];
+    g->kind = kind;
+    if (g->kind == GEO_MESH) {
+        read_mesh(c, s, g, region);
+        return;
+    }
     if (g->kind == GEO_CYLINDER) {
         need(dict_get_vector(s, "point1", g->p1, &err), &err);
         need(dict_get_vector(s, "point2", g->p2, &err), &err);
@@ -358,6 +391,28 @@ static void read_shape(sl_case *c, const dict *s)
     for (int k = 0; k < 3; k++)
         if (!(g->hi[k] > g->lo[k])) bad_value(s, "max", "must be larger than min in every component");
     if (g->kind == GEO_CONTAINER) g->open_faces = read_open_faces(s);
+}
+
+static void read_shape(sl_case *c, const dict *s)
+{
+    static const char *const types[] = {"container", "box", "sphere", "cylinder", "plane", "mesh", NULL};
+    static const geo_kind kinds[] = {GEO_CONTAINER, GEO_BOX, GEO_SPHERE, GEO_CYLINDER, GEO_PLANE, GEO_MESH};
+    sl_err err;
+    const char *w;
+    dict_warn_unknown(s, shape_keys);
+    need(dict_get_word(s, "type", &w, &err), &err);
+    int kind = choose(s, "type", w, types);
+    c->shapes = sl_realloc(c->shapes, (c->nshapes + 1) * sizeof *c->shapes, "geometry");
+    c->motions = sl_realloc(c->motions, (c->nshapes + 1) * sizeof *c->motions, "geometry");
+    memset(&c->motions[c->nshapes], 0, sizeof *c->motions);
+    if (dict_has(s, "motion")) {
+        const dict *m = dict_sub(s, "motion");
+        if (!m) bad_value(s, "motion", "must be a dictionary { type cosine|oscillating|table; ... }");
+        mot_read(&c->motions[c->nshapes], m, c->dir);
+    }
+    geo_shape *g = &c->shapes[c->nshapes++];
+    memset(g, 0, sizeof *g);
+    read_shape_geometry(c, s, g, kinds[kind], 0);
 }
 
 static void read_boundary(sl_case *c)
@@ -431,12 +486,14 @@ void case_build(sl_case *c)
     }
     for (size_t r = 0; r < c->nregions; r++) {
         const case_region *g = &c->regions[r];
-        size_t n = geo_fill_box(g->lo, g->hi, r0, g->velocity, c->shapes, c->nshapes, &c->fluid);
+        size_t n = geo_fill_region(&g->shape, r0, g->velocity, c->shapes, c->nshapes, &c->fluid);
         if (n == 0)
             sl_fatal("%s/constant/fluidProperties: fluid region '%s' holds no particle "
                      "(outside the container, inside an obstacle, or smaller than "
                      "particleSpacing %g)", c->dir, g->name, r0);
-        grow_bounds(c->lo, c->hi, g->lo, g->hi);
+        double lo[3], hi[3];
+        geo_bounds(&g->shape, r0, lo, hi);
+        grow_bounds(c->lo, c->hi, lo, hi);
     }
     for (size_t e = 0; e < c->nemitters; e++) {
         const emt_emitter *m = &c->emitters[e];
@@ -455,6 +512,10 @@ void case_free(sl_case *c)
 {
     prt_fluid_free(&c->fluid);
     prt_boundary_free(&c->boundary);
+    for (size_t i = 0; i < c->nshapes; i++)
+        if (c->shapes[i].mesh) { mesh_free(c->shapes[i].mesh); free(c->shapes[i].mesh); }
+    for (size_t i = 0; i < c->nregions; i++)
+        if (c->regions[i].shape.mesh) { mesh_free(c->regions[i].shape.mesh); free(c->regions[i].shape.mesh); }
     for (size_t i = 0; i < c->nemitters; i++) emt_free(&c->emitters[i]);
     free(c->emitters);
     for (size_t i = 0; i < c->nshapes; i++) mot_free(&c->motions[i]);

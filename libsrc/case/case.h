@@ -35,7 +35,8 @@ typedef struct case_controls {
 
 typedef struct case_region {
     char name[64];
-    double lo[3], hi[3], velocity[3];
+    geo_shape shape;           /* box, sphere, cylinder or closed mesh */
+    double velocity[3];
 } case_region;
 
 typedef struct sl_case {

@@ -1,5 +1,8 @@
 /* geometry: shapes, boundary sampling and fluid filling (see geometry.h). */
 #include "geometry/geometry.h"
+#include "geometry/mesh.h"
+#include "geometry/mesh_sample.h"
+#include "core/sl_log.h"
 
 #include <math.h>
 
@@ -60,6 +63,10 @@ double geo_solid_distance(const geo_shape *s, const double p[3])
         return cylinder_distance(s, p);
     case GEO_PLANE:
         return plane_distance(s, p);
+    case GEO_MESH: {
+        double d = mesh_signed_distance_bounded(s->mesh, p, s->dbound);
+        return s->mesh_container ? -d : d;
+    }
     case GEO_CONTAINER:
         return -box_outside_distance(s->lo, s->hi, p);
     case GEO_BOX:
@@ -234,12 +241,24 @@ size_t geo_sample(const geo_shape *s, double r0, uint32_t body, sl_boundary *b)
     }
     case GEO_PLANE:
         return sample_plane(s, r0, body, b);
+    case GEO_MESH: {
+        msample_params mp = msample_defaults(r0, s->mesh_container ? MSAMPLE_CONTAINER : MSAMPLE_OBSTACLE);
+        size_t added = 0;
+        sl_err err;
+        if (msample_surface(s->mesh, &mp, body, b, &added, &err)) sl_fatal("%s", err.msg);
+        return added;
+    }
     }
     return 0;
 }
 
 void geo_bounds(const geo_shape *s, double r0, double lo[3], double hi[3])
 {
+    if (s->kind == GEO_MESH) {
+        mesh_bounds(s->mesh, lo, hi);
+        for (int d = 0; d < 3; d++) { lo[d] -= r0; hi[d] += r0; }
+        return;
+    }
     for (int d = 0; d < 3; d++) {
         if (s->kind == GEO_CYLINDER) {
             lo[d] = fmin(s->p1[d], s->p2[d]) - s->radius;
@@ -271,6 +290,33 @@ size_t geo_fill_box(const double lo[3], const double hi[3], double r0, const dou
             for (long i = 0; i < n[0]; i++) {
                 double p[3] = {lo[0] + ((double)i + 0.5) * r0, lo[1] + ((double)j + 0.5) * r0,
                                lo[2] + ((double)k + 0.5) * r0};
+                int ok = 1;
+                for (size_t s = 0; s < nshapes && ok; s++)
+                    if (geo_solid_distance(&shapes[s], p) < keep) ok = 0;
+                if (!ok) continue;
+                prt_fluid_push(f, p[0], p[1], p[2], v[0], v[1], v[2]);
+                added++;
+            }
+    return added;
+}
+
+size_t geo_fill_region(const geo_shape *region, double r0, const double v[3],
+                       const geo_shape *shapes, size_t nshapes, sl_fluid *f)
+{
+    double lo[3], hi[3];
+    if (region->kind == GEO_BOX)
+        return geo_fill_box(region->lo, region->hi, r0, v, shapes, nshapes, f);
+    geo_bounds(region, 0.0, lo, hi);
+    long n[3];
+    size_t added = 0;
+    const double keep = 0.5 * r0 * (1.0 - 1e-9);
+    for (int d = 0; d < 3; d++) n[d] = (long)floor((hi[d] - lo[d]) / r0 + 1e-9);
+    for (long k = 0; k < n[2]; k++)
+        for (long j = 0; j < n[1]; j++)
+            for (long i = 0; i < n[0]; i++) {
+                double p[3] = {lo[0] + ((double)i + 0.5) * r0, lo[1] + ((double)j + 0.5) * r0,
+                               lo[2] + ((double)k + 0.5) * r0};
+                if (geo_solid_distance(region, p) > -keep) continue; /* outside the region */
                 int ok = 1;
                 for (size_t s = 0; s < nshapes && ok; s++)
                     if (geo_solid_distance(&shapes[s], p) < keep) ok = 0;

@@ -19,7 +19,9 @@
 
 #include "particles/particles.h"
 
-typedef enum { GEO_CONTAINER, GEO_BOX, GEO_SPHERE, GEO_CYLINDER, GEO_PLANE } geo_kind;
+typedef enum { GEO_CONTAINER, GEO_BOX, GEO_SPHERE, GEO_CYLINDER, GEO_PLANE, GEO_MESH } geo_kind;
+
+struct mesh;
 
 /* Faces of a box, for the container's `open` list. */
 enum { GEO_XMIN = 1, GEO_XMAX = 2, GEO_YMIN = 4, GEO_YMAX = 8, GEO_ZMIN = 16, GEO_ZMAX = 32 };
@@ -34,6 +36,9 @@ typedef struct geo_shape {
     double origin[3], e1[3], e2[3]; /* plane: rectangle origin + s e1 + t e2, s, t in [0, 1];
                                        the fluid is on the side of e1 x e2 */
     unsigned open_faces;      /* container: faces left open (GEO_XMIN | ...) */
+    struct mesh *mesh;        /* mesh: validated, with its distance index */
+    int mesh_container;       /* mesh: fluid inside (1) or outside (0) */
+    double dbound;            /* mesh: distances beyond this need only their sign */
 } geo_shape;
 
 /* Signed distance from p to the solid: positive in the fluid space,
@@ -52,6 +57,12 @@ size_t geo_sample(const geo_shape *s, double r0, uint32_t body, sl_boundary *b);
  * initial velocity v.  Returns the number of particles added. */
 size_t geo_fill_box(const double lo[3], const double hi[3], double r0, const double v[3],
                     const geo_shape *shapes, size_t nshapes, sl_fluid *f);
+
+/* Fill the inside of a region shape (box, sphere, cylinder, mesh) with a
+ * cubic lattice of spacing r0 anchored at the shape's bounds, keeping
+ * points at least r0/2 inside the region and r0/2 away from every solid. */
+size_t geo_fill_region(const geo_shape *region, double r0, const double v[3],
+                       const geo_shape *shapes, size_t nshapes, sl_fluid *f);
 
 /* Axis-aligned bounds of a shape's boundary particles (for the grid). */
 void geo_bounds(const geo_shape *s, double r0, double lo[3], double hi[3]);
