@@ -1,0 +1,112 @@
+/* Scenes: every tutorial and case runs for a short time with no NaN and no
+ * particle outside its tank; the moving paddle of the wave case pushes the
+ * water without being penetrated. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *bin_dir(void)
+{
+    const char *b = getenv("SLUICE_BIN");
+    return b ? b : "bin";
+}
+
+static int run_short(const char *src, const char *name, const char *end)
+{
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd,
+             "rm -rf tests/output/%s && mkdir -p tests/output && cp -r %s tests/output/%s && "
+             "sed -i 's/^endTime .*/endTime %s;/; s/^writeInterval .*/writeInterval %s;/' "
+             "tests/output/%s/system/controlDict && %s/pcisph -case tests/output/%s -quiet "
+             "> tests/output/%s/log.pcisph 2>&1",
+             name, src, name, end, end, name, bin_dir(), name, name);
+    return system(cmd);
+}
+
+/* key=value lines of a script's output */
+static double script_value(const char *cmd, const char *key)
+{
+    char line[512];
+    double v = -1;
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    while (fgets(line, sizeof line, p))
+        if (!strncmp(line, key, strlen(key)) && line[strlen(key)] == '=')
+            v = strtod(line + strlen(key) + 1, NULL);
+    assert_int_equal(pclose(p), 0);
+    return v;
+}
+
+typedef struct scene {
+    const char *dir;
+    const char *bounds; /* --lo ... --hi ...: the tank */
+} scene;
+
+static const scene scenes[] = {
+    {"tutorials/damBreak", "--lo 0 0 0 --hi 1.6 0.6 0.8"},
+    {"tutorials/hydrostaticTank", "--lo 0 0 0 --hi 0.3 0.3 0.6"},
+    {"tutorials/droplet", "--lo -1 -1 -1 --hi 1 1 1"},
+    {"tutorials/filling", "--lo 0 0 0 --hi 0.2 0.2 0.4"},
+    {"tutorials/sloshingTank", "--lo -0.05 0 -0.05 --hi 0.65 0.15 0.35"},
+    {"cases/shock", "--lo 0 0 0 --hi 1 1 1.6"},
+    {"cases/cbdSmall", "--lo 0 0 0 --hi 1.2 1.2 1.2"},
+    {"cases/wave", "--lo 0 0 0 --hi 4 0.5 1"},
+    {"cases/glass", "--lo -0.3 -0.3 0 --hi 0.3 0.3 0.5"},
+};
+
+static void test_every_scene_runs(void **state)
+{
+    (void)state;
+    char cmd[1024], name[128];
+    for (size_t k = 0; k < sizeof scenes / sizeof *scenes; k++) {
+        snprintf(name, sizeof name, "scene_%s", strrchr(scenes[k].dir, '/') + 1);
+        if (run_short(scenes[k].dir, name, "0.1") != 0) fail_msg("%s did not run", scenes[k].dir);
+        snprintf(cmd, sizeof cmd, "/usr/bin/python3 tests/cases/inspect_case.py tests/output/%s %s",
+                 name, scenes[k].bounds);
+        double nan = script_value(cmd, "nan"), out = script_value(cmd, "outside");
+        if (nan != 0 || out != 0) fail_msg("%s: %g non-finite values, %g particles outside", scenes[k].dir, nan, out);
+    }
+}
+
+/* The wave generator: by 0.4 s the paddle has moved 0.08 m into the water;
+ * no particle is inside it at any written time. */
+static void test_paddle_not_penetrated(void **state)
+{
+    (void)state;
+    assert_int_equal(run_short("cases/wave", "paddle", "0.4"), 0);
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "sed -i 's/^writeInterval .*/writeInterval 0.1;/' tests/output/paddle/system/controlDict && "
+             "rm -rf tests/output/paddle/0.4 && %s/pcisph -case tests/output/paddle -quiet > /dev/null 2>&1",
+             bin_dir());
+    assert_int_equal(system(cmd), 0);
+    const char *times[] = {"0.1", "0.2", "0.3", "0.4"};
+    double moved = 0;
+    for (int k = 0; k < 4; k++) {
+        snprintf(cmd, sizeof cmd, "/usr/bin/python3 tests/cases/inside_body.py tests/output/paddle %s 1",
+                 times[k]);
+        assert_true(script_value(cmd, "inside") == 0);
+    }
+    FILE *p = popen("/usr/bin/python3 tests/cases/inside_body.py tests/output/paddle 0.4 1", "r");
+    char line[256];
+    while (fgets(line, sizeof line, p))
+        if (!strncmp(line, "lo=", 3)) moved = strtod(line + 3, NULL) - 0.1125; /* x of the back face at rest */
+    pclose(p);
+    print_message("paddle moved %.3f m\n", moved);
+    assert_true(moved > 0.05);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_every_scene_runs),
+        cmocka_unit_test(test_paddle_not_penetrated),
+    };
+    return cmocka_run_group_tests_name("scenes", tests, NULL, NULL);
+}
