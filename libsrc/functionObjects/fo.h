@@ -19,10 +19,10 @@
  * time the solver writes), writeInterval (default 1), enabled (default on).
  *
  * Each object writes postProcessing/<name>/<startTime>/<type>.dat, where
- * startTime is the time of the first fo_execute call: '#' header lines, the
- * last naming the tab-separated columns, one row per execution, flushed, so
- * gnuplot can follow a running case.  A restart (another start time) opens a
- * new folder; the same start time overwrites.
+ * startTime is the time of the first fo_execute (or fo_start) call: '#'
+ * header lines, the last naming the tab-separated columns, one row per
+ * execution, flushed, so gnuplot can follow a running case.  A restart
+ * (another start time) opens a new folder; the same start time overwrites.
  *
  * The types (fo_density_error.c, fo_probes.c, fo_water_gauges.c,
  * fo_energy.c) sit behind one contract (fo_type.h); an unknown type stops
@@ -30,8 +30,9 @@
  *
  * Cost: fo_read returns NULL when the case names no (enabled) function
  * object, and fo_execute(NULL, ...) returns at once.  fo_execute allocates
- * only on its first call (files, scratch sized for the particle count) and
- * again only if the particle count grows.
+ * only on its first call (files, scratch sized for the particle count),
+ * again only if the particle count or the grid grows, and at write times
+ * for per-time files (densityError's histograms).
  */
 #ifndef SL_FO_H
 #define SL_FO_H

@@ -46,8 +46,8 @@ static void *pr_read(const dict *d)
             while (k < PR_NFIELDS && strcmp(w[i], pr_field_names[k])) k++;
             if (k == PR_NFIELDS) {
                 char why[256];
-                snprintf(why, sizeof why, "unknown field '%s'; valid fields: pressure density velocity",
-                         w[i]);
+                snprintf(why, sizeof why,
+                         "unknown field '%s'; valid fields: pressure density velocity", w[i]);
                 dict_free_word_list(w, n);
                 fo_bad_key(d, "fields", why);
             }
@@ -70,7 +70,8 @@ static void pr_header(const void *vs, const pcs_solver *s, FILE *f)
     (void)s;
     fprintf(f, "# Shepard-normalised SPH interpolation sum_j V_j A_j W / sum_j V_j W, V_j = m_j / "
                "rho_j, over fluid and active boundary particles within h;\n"
-               "# nan: no particle within h.  pressure in Pa, density in kg/m^3, velocity in m/s\n");
+               "# nan: no particle within h.  pressure in Pa, density in kg/m^3, velocity in "
+               "m/s\n");
     for (size_t i = 0; i < st->n; i++)
         fprintf(f, "# Probe %zu (%.10g %.10g %.10g)\n", i, st->pts[3 * i], st->pts[3 * i + 1],
                 st->pts[3 * i + 2]);
@@ -91,8 +92,10 @@ static void pr_columns(const void *vs, FILE *f)
 static void pr_execute(void *vs, const fo_call *call)
 {
     pr_state *st = vs;
-    for (size_t i = 0; i < st->n; i++)
-        fo_query_sample(call->ix, st->pts[3 * i], st->pts[3 * i + 1], st->pts[3 * i + 2], &st->val[i]);
+    for (size_t i = 0; i < st->n; i++) {
+        const double *x = st->pts + 3 * i;
+        fo_query_sample(call->ix, x[0], x[1], x[2], &st->val[i]);
+    }
     for (int k = 0; k < st->nfields; k++)
         for (size_t i = 0; i < st->n; i++) {
             const fo_sample *v = &st->val[i];

@@ -50,6 +50,9 @@ static inline void add_boundary(acc *a, const pcs_solver *s, size_t j, double x,
     a->vw += vw;
     a->p += vw * b->p[j];
     a->rho += vw * rho;
+    a->vx += vw * b->vx[j]; /* the wall's own velocity (zero unless it moves) */
+    a->vy += vw * b->vy[j];
+    a->vz += vw * b->vz[j];
 }
 
 /* The cell of a point, clamped into the grid as the neighbour search does. */
@@ -145,9 +148,11 @@ static void gather(const fo_index *ix, double x, double y, double z, int boundar
     for (int cz = lo[2]; cz <= hi[2]; cz++)
         for (int cy = lo[1]; cy <= hi[1]; cy++)
             for (int cx = lo[0]; cx <= hi[0]; cx++) {
-                size_t lin = (size_t)cx + (size_t)g->nc[0] * ((size_t)cy + (size_t)g->nc[1] * (size_t)cz);
+                size_t lin = (size_t)cx + (size_t)g->nc[0] * ((size_t)cy + (size_t)g->nc[1] *
+                                                                               (size_t)cz);
                 uint32_t r = g->rank[lin];
-                for (uint32_t j = g->fstart[r]; j < g->fstart[r + 1]; j++) add_fluid(a, s, j, x, y, z);
+                for (uint32_t j = g->fstart[r]; j < g->fstart[r + 1]; j++)
+                    add_fluid(a, s, j, x, y, z);
                 for (uint32_t j = nb ? g->bstart[r] : 0; j < (nb ? g->bstart[r + 1] : 0); j++)
                     add_boundary(a, s, j, x, y, z);
             }

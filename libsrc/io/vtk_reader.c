@@ -169,7 +169,8 @@ static int read_attrs(rd *r, tag *t)
 {
     for (;;) {
         skip_ws(r);
-        if (r->pos >= r->len) return fail(r, "unexpected end of file in <%s> (truncated?)", t->name);
+        if (r->pos >= r->len)
+            return fail(r, "unexpected end of file in <%s> (truncated?)", t->name);
         char c = r->buf[r->pos];
         if (c == '>') { r->pos++; return 0; }
         if (c == '/') {
@@ -190,7 +191,8 @@ static int read_attrs(rd *r, tag *t)
         skip_ws(r);
         char q = r->pos < r->len ? r->buf[r->pos] : '\0';
         if (q != '"' && q != '\'')
-            return fail(r, "expected a quoted value for attribute '%s' at byte %zu", a->key, r->pos);
+            return fail(r, "expected a quoted value for attribute '%s' at byte %zu", a->key,
+                        r->pos);
         size_t b = ++r->pos;
         while (r->pos < r->len && r->buf[r->pos] != q && r->buf[r->pos] != '<') r->pos++;
         if (r->pos >= r->len || r->buf[r->pos] != q)
@@ -375,8 +377,8 @@ static int parse_data_array(rd *r, const tag *t, vtkr_section sec, size_t ntuple
     for (int k = 0; k < T_NTYPES; k++)
         if (attr_is(ty, type_names[k])) d->type = (vtkr_type)k;
     if (d->type == T_NTYPES)
-        return fail(r, "array '%s': unsupported type \"%.*s\"", d->name, (int)(ty->vlen < 40 ? ty->vlen : 40),
-                    ty->val);
+        return fail(r, "array '%s': unsupported type \"%.*s\"", d->name,
+                    (int)(ty->vlen < 40 ? ty->vlen : 40), ty->val);
     if (attr_size(r, t, "NumberOfComponents", 0, 1, &nc)) return 1;
     if (nc < 1 || nc > VTKR_MAX_COMP)
         return fail(r, "array '%s': NumberOfComponents %zu out of range", d->name, nc);
@@ -392,7 +394,8 @@ static int parse_data_array(rd *r, const tag *t, vtkr_section sec, size_t ntuple
         if (find_attr(t, "NumberOfTuples")) {
             if (attr_size(r, t, "NumberOfTuples", 1, 0, &nt)) return 1;
             if (known && nt != ntuples)
-                return fail(r, "array '%s': NumberOfTuples %zu, expected %zu", d->name, nt, ntuples);
+                return fail(r, "array '%s': NumberOfTuples %zu, expected %zu", d->name, nt,
+                            ntuples);
         }
     }
     if (attr_is(fm, "ascii")) {
@@ -471,7 +474,8 @@ static int parse_piece(rd *r, const tag *t)
         }
     }
     if (!r->have_points) return fail(r, "<Piece> holds no Points");
-    if (!r->have_cells && r->ncells > 0) return fail(r, "<Piece> declares cells but has no <Cells>");
+    if (!r->have_cells && r->ncells > 0)
+        return fail(r, "<Piece> declares cells but has no <Cells>");
     return 0;
 }
 
@@ -775,7 +779,8 @@ static const desc *find_desc(const rd *r, vtkr_section sec, const char *name)
 static int check_cells(rd *r)
 {
     if (!r->have_cells) return 0;
-    const desc *c = find_desc(r, SEC_CELLS, "connectivity"), *o = find_desc(r, SEC_CELLS, "offsets");
+    const desc *c = find_desc(r, SEC_CELLS, "connectivity");
+    const desc *o = find_desc(r, SEC_CELLS, "offsets");
     if (!c || !o || !find_desc(r, SEC_CELLS, "types"))
         return fail(r, "<Cells> needs connectivity, offsets and types");
     if (o->ncomp != 1 || c->ncomp != 1) return fail(r, "cell arrays must have one component");

@@ -452,7 +452,8 @@ int main(int argc, char **argv)
     out_init(&r.out, &r.c, r.t);
     rec_open(&r.rec, &r.c, r.t);
     if (!restarted) write_time(&r);
-    fo_execute(fo, &r.s, r.t, r.step, 1);
+    if (restarted) fo_start(fo, &r.s, r.t); /* its state was recorded by the last run */
+    else fo_execute(fo, &r.s, r.t, r.step, 1);
     r.last_write = r.t;
     r.next_write = next_write_after(&r, r.t);
     while (r.t < r.t_end - 1e-9 * r.ctl.dt) {
