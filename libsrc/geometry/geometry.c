@@ -278,35 +278,13 @@ void geo_bounds(const geo_shape *s, double r0, double lo[3], double hi[3])
     }
 }
 
-size_t geo_fill_box(const double lo[3], const double hi[3], double r0, const double v[3],
-                    const geo_shape *shapes, size_t nshapes, sl_fluid *f)
-{
-    long n[3];
-    size_t added = 0;
-    const double keep = 0.5 * r0 * (1.0 - 1e-9);
-    for (int d = 0; d < 3; d++) n[d] = (long)floor((hi[d] - lo[d]) / r0 + 1e-9);
-    for (long k = 0; k < n[2]; k++)
-        for (long j = 0; j < n[1]; j++)
-            for (long i = 0; i < n[0]; i++) {
-                double p[3] = {lo[0] + ((double)i + 0.5) * r0, lo[1] + ((double)j + 0.5) * r0,
-                               lo[2] + ((double)k + 0.5) * r0};
-                int ok = 1;
-                for (size_t s = 0; s < nshapes && ok; s++)
-                    if (geo_solid_distance(&shapes[s], p) < keep) ok = 0;
-                if (!ok) continue;
-                prt_fluid_push(f, p[0], p[1], p[2], v[0], v[1], v[2]);
-                added++;
-            }
-    return added;
-}
 
-size_t geo_fill_region(const geo_shape *region, double r0, const double v[3],
-                       const geo_shape *shapes, size_t nshapes, sl_fluid *f)
+/* The lattice of spacing r0 over [lo, hi] (first point at lo + r0/2),
+ * keeping points at least r0/2 inside `region` and r0/2 from every solid. */
+static size_t fill_lattice(const geo_shape *region, const double lo[3], const double hi[3],
+                           double r0, const double v[3], const geo_shape *shapes, size_t nshapes,
+                           sl_fluid *f)
 {
-    double lo[3], hi[3];
-    if (region->kind == GEO_BOX)
-        return geo_fill_box(region->lo, region->hi, r0, v, shapes, nshapes, f);
-    geo_bounds(region, 0.0, lo, hi);
     long n[3];
     size_t added = 0;
     const double keep = 0.5 * r0 * (1.0 - 1e-9);
@@ -325,4 +303,25 @@ size_t geo_fill_region(const geo_shape *region, double r0, const double v[3],
                 added++;
             }
     return added;
+}
+
+size_t geo_fill_box(const double lo[3], const double hi[3], double r0, const double v[3],
+                    const geo_shape *shapes, size_t nshapes, sl_fluid *f)
+{
+    geo_shape box = {.kind = GEO_BOX};
+    for (int d = 0; d < 3; d++) {
+        box.lo[d] = lo[d];
+        box.hi[d] = hi[d];
+    }
+    return fill_lattice(&box, lo, hi, r0, v, shapes, nshapes, f);
+}
+
+size_t geo_fill_region(const geo_shape *region, double r0, const double v[3],
+                       const geo_shape *shapes, size_t nshapes, sl_fluid *f)
+{
+    double lo[3], hi[3];
+    if (region->kind == GEO_BOX)
+        return geo_fill_box(region->lo, region->hi, r0, v, shapes, nshapes, f);
+    geo_bounds(region, 0.0, lo, hi);
+    return fill_lattice(region, lo, hi, r0, v, shapes, nshapes, f);
 }
