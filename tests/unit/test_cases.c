@@ -8,6 +8,8 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include "case_run.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -21,12 +23,6 @@ typedef struct facts {
     double val[MAXV];
 } facts;
 
-static const char *bin_dir(void)
-{
-    const char *b = getenv("SLUICE_BIN");
-    return b ? b : "bin";
-}
-
 /* Copy tests/cases/<name> to tests/output/<name> and run the solver there. */
 static int run_case(const char *name, const char *extra)
 {
@@ -35,19 +31,6 @@ static int run_case(const char *name, const char *extra)
              "rm -rf tests/output/%s && mkdir -p tests/output && cp -r tests/cases/%s tests/output/%s"
              " && %s/pcisph -case tests/output/%s -quiet %s > tests/output/%s/log.pcisph 2>&1",
              name, name, name, bin_dir(), name, extra ? extra : "", name);
-    return system(cmd);
-}
-
-/* Copy src (a folder under the repository) to tests/output/<name>, apply
- * the shell commands `edit` inside it, run the solver; returns its status. */
-static int run_edited(const char *src, const char *name, const char *edit)
-{
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd,
-             "rm -rf tests/output/%s && mkdir -p tests/output && cp -r %s tests/output/%s && "
-             "(cd tests/output/%s && %s) && %s/pcisph -case tests/output/%s -quiet "
-             "> tests/output/%s/log.pcisph 2>&1",
-             name, src, name, name, edit, bin_dir(), name, name);
     return system(cmd);
 }
 

@@ -7,26 +7,11 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include "case_run.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static const char *bin_dir(void)
-{
-    const char *b = getenv("SLUICE_BIN");
-    return b ? b : "bin";
-}
-
-static int run_edited(const char *src, const char *name, const char *edit)
-{
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd,
-             "rm -rf tests/output/%s && mkdir -p tests/output && cp -r %s tests/output/%s && "
-             "(cd tests/output/%s && %s) && %s/pcisph -case tests/output/%s -quiet "
-             "> tests/output/%s/log.pcisph 2>&1",
-             name, src, name, name, edit, bin_dir(), name, name);
-    return system(cmd);
-}
 
 /* Number of calls the log reports for an effect; -1 if not listed. */
 static long effect_calls(const char *name, const char *effect)

@@ -7,15 +7,11 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include "case_run.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static const char *bin_dir(void)
-{
-    const char *b = getenv("SLUICE_BIN");
-    return b ? b : "bin";
-}
 
 static int run_short(const char *src, const char *name, const char *end)
 {
@@ -27,20 +23,6 @@ static int run_short(const char *src, const char *name, const char *end)
              "> tests/output/%s/log.pcisph 2>&1",
              name, src, name, end, end, name, bin_dir(), name, name);
     return system(cmd);
-}
-
-/* key=value lines of a script's output */
-static double script_value(const char *cmd, const char *key)
-{
-    char line[512];
-    double v = -1;
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    while (fgets(line, sizeof line, p))
-        if (!strncmp(line, key, strlen(key)) && line[strlen(key)] == '=')
-            v = strtod(line + strlen(key) + 1, NULL);
-    assert_int_equal(pclose(p), 0);
-    return v;
 }
 
 typedef struct scene {
