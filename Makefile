@@ -98,3 +98,44 @@ clean:
 	rm -rf build bin
 
 -include $(shell find build -name '*.d' 2>/dev/null)
+
+# Fuzzing (libFuzzer; Debian: clang libclang-rt-14-dev).  `make fuzz` builds
+# the targets of tests/fuzz/ with ASan+UBSan into build/fuzz and runs each
+# for FUZZ_SECONDS (FUZZ_TARGETS: dict obj stl); see tests/fuzz/run_fuzz.
+FUZZ_CC      ?= clang
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS ?= dict obj stl
+FUZZ_FLAGS   := -std=c11 -D_GNU_SOURCE -g -O1 -fno-omit-frame-pointer -Ilibsrc \
+                -Wno-unknown-pragmas -fsanitize=fuzzer,address,undefined \
+                -fno-sanitize-recover=undefined
+FUZZ_CORE    := libsrc/core/sl_log.c libsrc/core/sl_mem.c
+FUZZ_MESH    := $(addprefix libsrc/geometry/,mesh.c mesh_io.c mesh_distance.c mesh_grid.c) \
+                libsrc/io/atomic_file.c $(FUZZ_CORE)
+.PHONY: fuzz fuzz-build fuzz-check
+fuzz-check:
+	@command -v $(FUZZ_CC) > /dev/null || { echo "make fuzz needs $(FUZZ_CC) and libFuzzer" \
+	    "(Debian: apt-get install clang libclang-rt-14-dev)" >&2; exit 1; }
+fuzz-build: build/fuzz/fuzz_dict build/fuzz/fuzz_obj build/fuzz/fuzz_stl
+build/fuzz/fuzz_dict: tests/fuzz/fuzz_dict.c $(wildcard libsrc/dictionary/*.c) $(FUZZ_CORE) \
+                      $(wildcard libsrc/dictionary/*.h libsrc/core/*.h)
+build/fuzz/fuzz_obj: FUZZ_DEF := -DFUZZ_OBJ
+build/fuzz/fuzz_stl: FUZZ_DEF := -DFUZZ_STL
+build/fuzz/fuzz_obj build/fuzz/fuzz_stl: tests/fuzz/fuzz_mesh.c $(FUZZ_MESH) \
+                                         $(wildcard libsrc/geometry/*.h libsrc/io/*.h libsrc/core/*.h)
+build/fuzz/fuzz_%: | fuzz-check
+	@rm -rf $(@D)/obj_$* && mkdir -p $(@D)/obj_$*
+	$(FUZZ_CC) $(FUZZ_FLAGS) $(WARN) $(FUZZ_DEF) -c -o $(@D)/obj_$*/harness.o $<
+	cd $(@D)/obj_$* && $(FUZZ_CC) $(FUZZ_FLAGS) -I$(CURDIR)/libsrc -c \
+	    $(addprefix $(CURDIR)/,$(filter-out $<,$(filter %.c,$^)))
+	$(FUZZ_CC) $(FUZZ_FLAGS) -o $@ $(@D)/obj_$*/*.o -lm
+fuzz: fuzz-build
+	@tests/fuzz/run_fuzz build/fuzz $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+
+# The dictionary parser tests under valgrind, leaks included.  Valgrind
+# 3.19 cannot run AVX-512 code, so this build targets generic x86-64-v2.
+VALGRIND ?= valgrind --leak-check=full --error-exitcode=1 -q
+.PHONY: test-valgrind
+test-valgrind:
+	@$(MAKE) --no-print-directory BUILD=build/valgrind BIN=build/valgrind/bin \
+	    ARCH=-march=x86-64-v2 build/valgrind/tests/test_dictionary
+	$(VALGRIND) build/valgrind/tests/test_dictionary

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* ---- error helpers: every failure names file, line and key ---- */
 
@@ -224,7 +225,8 @@ static void read_fluid(sl_case *c)
     double eta;
     dict_warn_unknown(d, fluid_keys);
     need(dict_get_scalar(d, "rho0", &p->rho0, &err), &err);
-    positive(d, "rho0", p->rho0);
+    if (!(p->rho0 >= 1e-3 && p->rho0 <= 1e5))
+        bad_value(d, "rho0", "must be a liquid's rest density in kg/m^3 (between 1e-3 and 1e5)");
     need(dict_get_scalar(d, "particleSpacing", &p->r0, &err), &err);
     positive(d, "particleSpacing", p->r0);
     need(dict_get_vector_or(d, "gravity", g0, p->gravity, &err), &err);
@@ -471,10 +473,67 @@ static void grow_bounds(double lo[3], double hi[3], const double a[3], const dou
     }
 }
 
+/* Particles a box of extent e needs: its volume (fluid) or its surface
+ * (boundary) over the spacing; infinite when it overflows. */
+static double estimate(const double lo[3], const double hi[3], double r0, int surface)
+{
+    double a = (hi[0] - lo[0]) / r0, b = (hi[1] - lo[1]) / r0, c = (hi[2] - lo[2]) / r0;
+    double n = surface ? 2.0 * (a * b + b * c + c * a) : a * b * c;
+    return isfinite(n) ? n : HUGE_VAL;
+}
+
+/* Stop before allocating when a shape or region would need more particles
+ * than memory holds (about 0.5 KiB each): wrong units or a typo. */
+static void check_size(const sl_case *c, const char *file, const char *what, const char *name,
+                       double n)
+{
+    const double limit = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE) / 512.0;
+    if (n > limit)
+        sl_fatal("%s/%s: %s '%s' needs too many particles (about %.3g at particleSpacing %g; this "
+                 "machine's memory holds about %.3g): is particleSpacing or the size in the "
+                 "wrong units?", c->dir, file, what, name, n, c->prm.r0, limit);
+}
+
 void case_build(sl_case *c)
 {
     const double r0 = c->prm.r0;
+    for (size_t s = 0; s < c->nshapes; s++) {
+        double lo[3], hi[3];
+        if (c->shapes[s].kind == GEO_PLANE) continue; /* bounded by its edges */
+        geo_bounds(&c->shapes[s], 0.0, lo, hi);
+        check_size(c, "constant/boundaryProperties", "geometry", c->shapes[s].name,
+                   estimate(lo, hi, r0, 1));
+        if (c->shapes[s].kind == GEO_MESH) {
+            double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                               (hi[2] - lo[2]) * (hi[2] - lo[2]));
+            if (diag < 2.0 * r0)
+                sl_fatal("%s/constant/boundaryProperties: geometry '%s' is too small (%g m across) to "
+                         "sample with particleSpacing %g: wrong scale?", c->dir, c->shapes[s].name,
+                         diag, r0);
+        }
+    }
+    for (size_t r = 0; r < c->nregions; r++) {
+        double lo[3], hi[3];
+        geo_bounds(&c->regions[r].shape, 0.0, lo, hi);
+        check_size(c, "constant/fluidProperties", "fluid region", c->regions[r].name,
+                   estimate(lo, hi, r0, 0));
+    }
     for (int k = 0; k < 3; k++) { c->lo[k] = INFINITY; c->hi[k] = -INFINITY; }
+    for (size_t s = 0; s < c->nshapes; s++) {
+        geo_shape *t = &c->shapes[s];
+        /* A box thinner than 2 r0 would be sampled as one layer with
+         * opposite normals on one plane, which cancel in eq. (9) and let
+         * fluid through: it is made 2 r0 thick about its mid-plane. */
+        for (int d = 0; t->kind == GEO_BOX && d < 3; d++)
+            if (t->hi[d] - t->lo[d] < 2.0 * r0 * (1.0 - 1e-9)) {
+                double mid = 0.5 * (t->lo[d] + t->hi[d]);
+                sl_warning("%s/constant/boundaryProperties: box '%s' is %g m thick, less than two "
+                           "particle spacings: treated as %g m thick", c->dir, t->name,
+                           t->hi[d] - t->lo[d], 2.0 * r0);
+                t->lo[d] = mid - r0;
+                t->hi[d] = mid + r0;
+            }
+    }
     for (size_t s = 0; s < c->nshapes; s++) {
         const geo_shape *g = &c->shapes[s];
         double lo[3], hi[3];

@@ -62,7 +62,9 @@ void out_init(case_output *o, const sl_case *c, double start_time)
     o->c = c;
     if (tdir_list_read(c->dir, "fluid.vtu", &l, &err)) sl_fatal("%s", err.msg);
     for (size_t i = 0; i < l.n; i++)
-        if (l.time[i] < start_time - 1e-12 * (1.0 + fabs(start_time))) push_time(o, l.time[i], l.name[i]);
+        /* up to and including the start time: a restart does not rewrite
+         * the folder it started from, and a new run replaces it */
+        if (l.time[i] <= start_time + 1e-12 * (1.0 + fabs(start_time))) push_time(o, l.time[i], l.name[i]);
     tdir_list_free(&l);
 }
 

@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "core/sl_mem.h"
 
@@ -39,6 +40,13 @@ void dict_parse_add(const dict_lexer *lx, dict *d, dict_entry *e)
 /* Whole file in a NUL-terminated buffer; NULL with *errnum set on failure. */
 static char *dict_parse_slurp(const char *path, size_t *len, int *errnum)
 {
+    struct stat st;
+    /* a dictionary is a regular file: a device or a pipe (/dev/zero) could
+     * be read forever */
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        *errnum = S_ISDIR(st.st_mode) ? EISDIR : EINVAL;
+        return NULL;
+    }
     FILE *f = fopen(path, "rb");
     size_t n = 0, cap = 4096;
     char *buf;

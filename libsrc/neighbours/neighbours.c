@@ -327,7 +327,7 @@ static void list_finish(nbr_list *l)
     }
     size_t off = 0;
     for (int t = 0; t < l->nthreads; t++) {
-        memcpy(l->idx + off, l->tbuf[t], l->tlen[t] * sizeof *l->idx);
+        if (l->tlen[t]) memcpy(l->idx + off, l->tbuf[t], l->tlen[t] * sizeof *l->idx);
         off += l->tlen[t];
     }
     /* start[] holds counts in rows 1..n; turn them into offsets. */

@@ -18,7 +18,7 @@ static void fluid_doubles(sl_fluid *f, double **a[FLUID_DOUBLES])
 static void grow_double(double **p, size_t n, size_t cap)
 {
     double *q = sl_alloc_aligned(cap * sizeof *q, "particle field");
-    if (*p) memcpy(q, *p, n * sizeof *q);
+    if (*p && n) memcpy(q, *p, n * sizeof *q);
     sl_free_aligned(*p);
     *p = q;
 }
@@ -26,7 +26,7 @@ static void grow_double(double **p, size_t n, size_t cap)
 static void grow_u32(uint32_t **p, size_t n, size_t cap)
 {
     uint32_t *q = sl_alloc_aligned(cap * sizeof *q, "particle field");
-    if (*p) memcpy(q, *p, n * sizeof *q);
+    if (*p && n) memcpy(q, *p, n * sizeof *q);
     sl_free_aligned(*p);
     *p = q;
 }
@@ -80,7 +80,7 @@ static void permute_double(double *restrict a, double *restrict tmp,
 {
 #pragma omp parallel for schedule(static)
     for (size_t i = 0; i < n; i++) tmp[i] = a[perm[i]];
-    memcpy(a, tmp, n * sizeof *a);
+    if (n) memcpy(a, tmp, n * sizeof *a);
 }
 
 static void permute_u32(uint32_t *restrict a, uint32_t *restrict tmp,
@@ -88,7 +88,7 @@ static void permute_u32(uint32_t *restrict a, uint32_t *restrict tmp,
 {
 #pragma omp parallel for schedule(static)
     for (size_t i = 0; i < n; i++) tmp[i] = a[perm[i]];
-    memcpy(a, tmp, n * sizeof *a);
+    if (n) memcpy(a, tmp, n * sizeof *a);
 }
 
 void prt_fluid_permute(sl_fluid *f, const uint32_t *perm)

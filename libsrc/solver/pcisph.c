@@ -76,6 +76,7 @@ void pcs_free(pcs_solver *s)
     sl_free_aligned(s->err);
     sl_free_aligned(s->wall_d);
     sl_free_aligned(s->wall_b);
+    sl_free_aligned(s->ap_best);
     if (s->wall.z) bnd_wall_table_free(&s->wall);
     memset(s, 0, sizeof *s);
 }
@@ -85,6 +86,10 @@ static void ensure_scratch(pcs_solver *s)
     if (s->err_cap < s->f->cap) {
         sl_free_aligned(s->err);
         s->err = sl_alloc_aligned(s->f->cap * sizeof *s->err, "density error");
+        if (s->prm.max_iter > s->prm.min_iter) {
+            sl_free_aligned(s->ap_best);
+            s->ap_best = sl_alloc_aligned(3 * s->f->cap * sizeof *s->ap_best, "pressure force");
+        }
         if (s->prm.method == BND_HARADA2007) {
             sl_free_aligned(s->wall_d);
             sl_free_aligned(s->wall_b);
@@ -334,7 +339,7 @@ static void integrate(pcs_solver *s, pcs_stats *st)
     for (size_t i = 0; i < f->n; i++) {
         double ax = f->ax[i] + f->apx[i], ay = f->ay[i] + f->apy[i], az = f->az[i] + f->apz[i];
         double a2 = ax * ax + ay * ay + az * az;
-        if (a2 > f2max) f2max = a2;
+        if (!(a2 <= f2max)) f2max = isnan(a2) ? HUGE_VAL : a2; /* NaN is reported, not skipped */
         f->vx[i] += dt * ax;
         f->vy[i] += dt * ay;
         f->vz[i] += dt * az;
@@ -346,7 +351,7 @@ static void integrate(pcs_solver *s, pcs_stats *st)
 #pragma omp parallel for schedule(static) reduction(max : v2max)
     for (size_t i = 0; i < f->n; i++) {
         double v2 = f->vx[i] * f->vx[i] + f->vy[i] * f->vy[i] + f->vz[i] * f->vz[i];
-        if (v2 > v2max) v2max = v2;
+        if (!(v2 <= v2max)) v2max = isnan(v2) ? HUGE_VAL : v2;
     }
     st->vmax = sqrt(v2max);
     st->fmax = sqrt(f2max);
@@ -388,6 +393,13 @@ void pcs_step(pcs_solver *s, pcs_stats *st)
 
     int k = 0;
     double emax;
+    /* Iterating to convergence (maxIterations > minIterations), the
+     * correction can overshoot near walls, where the collision keeps the
+     * predicted positions from moving, and the error then grows with every
+     * further iteration.  The pressure force that gave the smallest error
+     * is kept, and a growing error ends the iterations with it. */
+    const int guard = s->prm.max_iter > s->prm.min_iter;
+    double best = HUGE_VAL;
     for (;;) {
         predict_positions(s);
         t1 = omp_get_wtime(); s->time.predict += t1 - t0; t0 = t1;
@@ -397,6 +409,22 @@ void pcs_step(pcs_solver *s, pcs_stats *st)
             st->err_avg_before = sl_sum(s->err, f->n) * inv_n / rho0;
         }
         t1 = omp_get_wtime(); s->time.density += t1 - t0; t0 = t1;
+        if (guard) {
+            const size_t bytes = f->n * sizeof(double);
+            if (emax < best) { /* the force in use gave the best prediction so far */
+                best = emax;
+                memcpy(s->ap_best, f->apx, bytes);
+                memcpy(s->ap_best + f->cap, f->apy, bytes);
+                memcpy(s->ap_best + 2 * f->cap, f->apz, bytes);
+            } else if (k >= s->prm.min_iter) {
+                memcpy(f->apx, s->ap_best, bytes);
+                memcpy(f->apy, s->ap_best + f->cap, bytes);
+                memcpy(f->apz, s->ap_best + 2 * f->cap, bytes);
+                emax = best;
+                st->diverging = 1;
+                break;
+            }
+        }
         pcs_pass_pressure(s);
         t1 = omp_get_wtime(); s->time.pressure += t1 - t0; t0 = t1;
         k++;

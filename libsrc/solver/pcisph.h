@@ -56,6 +56,7 @@ typedef struct pcs_stats {
     double fmax;             /* max |F/m| (all forces) */
     size_t nactive;          /* active boundary particles */
     size_t ncollide;         /* fluid particles corrected by the final collision */
+    int diverging;           /* the iterations stopped because the error grew */
 } pcs_stats;
 
 /* Wall-clock seconds spent in each phase (accumulated). */
@@ -95,6 +96,7 @@ struct pcs_solver {
     bnd_wall_table wall;   /* harada2007 */
     double *wall_d;        /* harada2007: distance to the nearest boundary plane */
     uint32_t *wall_b;      /* harada2007: nearest boundary particle */
+    double *ap_best;       /* pressure force of the best iteration (3 x cap) */
     pcs_timers time;
     eff_list eff;          /* the effects in use, their calls and times */
     const mot_motion *motions; /* per body (pcs_set_motions) */
