@@ -39,6 +39,9 @@ APPS     := $(foreach d,$(APPDIRS),$(BIN)/$(notdir $(d)))
 TESTSRC  := $(wildcard tests/unit/test_*.c)
 TESTS    := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TESTSRC))
 
+# test objects are intermediate files: keep them, so `make test` after `make` relinks nothing
+.SECONDARY:
+
 .PHONY: all debug test test-unit test-cases test-debug demo bench bench-timestep clean format
 all: $(APPS) $(TESTS)
 
