@@ -24,6 +24,8 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include "tool_run.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -45,32 +47,6 @@
 
 static const char *const methods[] = {"ihmsen2010", "becker2009", "harada2007"};
 enum { NMETHODS = 3 };
-
-static char output[1 << 16]; /* what the last command printed */
-
-static const char *bin_dir(void)
-{
-    const char *b = getenv("SLUICE_BIN");
-    return b ? b : "bin";
-}
-
-/* Run a shell command (formatted), keep its output, return its exit status. */
-static int run(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-static int run(const char *fmt, ...)
-{
-    char cmd[4096], full[4200];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(cmd, sizeof cmd, fmt, ap);
-    va_end(ap);
-    snprintf(full, sizeof full, "( %s ) 2>&1", cmd);
-    FILE *p = popen(full, "r");
-    if (!p) return -1;
-    size_t n = fread(output, 1, sizeof output - 1, p);
-    output[n] = '\0';
-    int status = pclose(p);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-}
 
 static void set(const char *dir, const char *file, const char *entry, const char *value)
 {
