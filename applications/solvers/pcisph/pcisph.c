@@ -337,13 +337,16 @@ static void advance(run *r)
             fail_with_last_good(r, "the solution diverged (non-finite velocity or density); "
                                    "reduce deltaT in system/timeStepDict or use mode adaptive");
     }
+    /* constant mode: the step must let PCISPH reach eta; when iterating to
+     * convergence cannot bring the error down (the average above eta, or
+     * the maximum above eta_max), the step is too large for this case */
     if (r->c.ts.mode == TS_CONSTANT &&
         (st.err_avg > ts_eta_max(&r->c.ts, r->c.prm.eta) ||
          (!st.converged && r->c.prm.max_iter > r->c.prm.min_iter &&
-          st.err_max > ts_eta_max(&r->c.ts, r->c.prm.eta))))
-        fail_with_last_good(r, "not converging: the density error exceeds eta_max after "
-                               "maxIterations; reduce deltaT in system/timeStepDict or use mode "
-                               "adaptive");
+          (st.err_max > ts_eta_max(&r->c.ts, r->c.prm.eta) || st.err_avg > r->c.prm.eta))))
+        fail_with_last_good(r, "not converging: PCISPH cannot bring the density error below "
+                               "eta at this deltaT; reduce deltaT in system/timeStepDict or use "
+                               "mode adaptive");
     if (a == TS_TOO_SMALL)
         fail_with_last_good(r, "not stable: the time step fell below deltaTMin");
     if (a == TS_SHOCK) {
