@@ -193,7 +193,7 @@ static inline __attribute__((always_inline)) double density_pass(pcs_solver *s, 
     const int bk = s->eff.on[EFF_SURFACE_DENSITY];
     double *restrict rho_prev = f->scratch; /* free outside the sort */
     if (bk) {
-        memcpy(rho_prev, rho, n * sizeof *rho);
+        if (n) memcpy(rho_prev, rho, n * sizeof *rho);
         s->eff.calls[EFF_SURFACE_DENSITY]++;
     }
 #pragma omp parallel for schedule(static) reduction(max : emax)
@@ -398,7 +398,7 @@ void pcs_step(pcs_solver *s, pcs_stats *st)
      * predicted positions from moving, and the error then grows with every
      * further iteration.  The pressure force that gave the smallest error
      * is kept, and a growing error ends the iterations with it. */
-    const int guard = s->prm.max_iter > s->prm.min_iter;
+    const int guard = s->prm.max_iter > s->prm.min_iter && f->n > 0;
     double best = HUGE_VAL;
     for (;;) {
         predict_positions(s);

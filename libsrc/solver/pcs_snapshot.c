@@ -27,6 +27,11 @@ static void snap_reserve(pcs_snapshot *s, size_t n)
 void snap_take(pcs_snapshot *s, const sl_fluid *f, double time, double dt, long step)
 {
     snap_reserve(s, f->cap);
+    s->n = f->n;
+    s->time = time;
+    s->dt = dt;
+    s->step = step;
+    if (f->n == 0) return; /* nothing to copy (an emitter has not started yet) */
     const size_t bytes = f->n * sizeof(double);
     memcpy(s->x, f->x, bytes);
     memcpy(s->y, f->y, bytes);
@@ -35,15 +40,13 @@ void snap_take(pcs_snapshot *s, const sl_fluid *f, double time, double dt, long 
     memcpy(s->vy, f->vy, bytes);
     memcpy(s->vz, f->vz, bytes);
     memcpy(s->id, f->id, f->n * sizeof *s->id);
-    s->n = f->n;
-    s->time = time;
-    s->dt = dt;
-    s->step = step;
 }
 
 void snap_restore(const pcs_snapshot *s, sl_fluid *f)
 {
     prt_fluid_reserve(f, s->n);
+    f->n = s->n;
+    if (s->n == 0) return;
     const size_t bytes = s->n * sizeof(double);
     memcpy(f->x, s->x, bytes);
     memcpy(f->y, s->y, bytes);
@@ -52,12 +55,12 @@ void snap_restore(const pcs_snapshot *s, sl_fluid *f)
     memcpy(f->vy, s->vy, bytes);
     memcpy(f->vz, s->vz, bytes);
     memcpy(f->id, s->id, s->n * sizeof *f->id);
-    f->n = s->n;
 }
 
 int snap_equal(const pcs_snapshot *a, const pcs_snapshot *b)
 {
     if (a->n != b->n || a->time != b->time || a->dt != b->dt || a->step != b->step) return 0;
+    if (a->n == 0) return 1;
     const size_t bytes = a->n * sizeof(double);
     return !memcmp(a->x, b->x, bytes) && !memcmp(a->y, b->y, bytes) && !memcmp(a->z, b->z, bytes) &&
            !memcmp(a->vx, b->vx, bytes) && !memcmp(a->vy, b->vy, bytes) &&
