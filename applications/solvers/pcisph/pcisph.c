@@ -38,6 +38,7 @@ typedef struct run {
     emt_state *emit;           /* per emitter */
     uint32_t next_id;          /* id of the next emitted particle */
     pcs_snapshot back[2];      /* state at the start of the last two steps */
+    pcs_snapshot wsnap;        /* state written with each time directory (reused) */
     ts_state ctl_back[2];
     emt_state *emit_back[2];
     uint32_t next_id_back[2];
@@ -141,14 +142,11 @@ static void blob_unpack(run *r)
 static void write_time(run *r)
 {
     sl_err err;
-    pcs_snapshot snap;
     pcs_compute_density(&r->s); /* sorts: the snapshot is taken after it */
-    snap_init(&snap);
-    snap_take(&snap, r->s.f, r->t, r->s.dt, r->step);
+    snap_take(&r->wsnap, r->s.f, r->t, r->s.dt, r->step);
     blob_pack(r);
-    if (out_write(&r->out, &r->s, r->t, &snap, r->blob, r->blob_size, &err))
+    if (out_write(&r->out, &r->s, r->t, &r->wsnap, r->blob, r->blob_size, &err))
         sl_fatal("%s", err.msg);
-    snap_free(&snap);
     r->last_write = r->t;
 }
 
@@ -438,6 +436,7 @@ int main(int argc, char **argv)
     fo_list *fo = fo_read(&r.c);
     snap_init(&r.back[0]);
     snap_init(&r.back[1]);
+    snap_init(&r.wsnap);
     r.emit = calloc(r.c.nemitters + 1, sizeof *r.emit);
     r.emit_back[0] = calloc(r.c.nemitters + 1, sizeof *r.emit);
     r.emit_back[1] = calloc(r.c.nemitters + 1, sizeof *r.emit);
@@ -480,6 +479,7 @@ int main(int argc, char **argv)
     out_free(&r.out);
     snap_free(&r.back[0]);
     snap_free(&r.back[1]);
+    snap_free(&r.wsnap);
     free(r.emit);
     free(r.emit_back[0]);
     free(r.emit_back[1]);
