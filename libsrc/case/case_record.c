@@ -28,16 +28,19 @@ void rec_open(case_record *r, const sl_case *c, double start_time)
                   "# Fmax: largest force per unit mass (m/s^2)\n"
                   "# shock 1: the step was discarded, the run went back two steps\n"
                   "# controllerDeltaT: the controller's step after this one\n"
+                  "# volErr: the same compression with the wall's density from the boundary "
+                  "particles of eq. (13), whatever the boundary method (= rhoErr for "
+                  "ihmsen2010)\n"
                   "# Time\tdeltaT\titerations\trhoErrAvg\trhoErrMax\tvMax\tFMax\tshock\twallTime"
-                  "\tcontrollerDeltaT\n");
+                  "\tcontrollerDeltaT\tvolErrAvg\tvolErrMax\n");
 }
 
 void rec_step(case_record *r, double t, double dt, const pcs_stats *st, int shock, double wall,
               double dt_next)
 {
-    fprintf(r->f, "%.10g\t%.17g\t%d\t%.6g\t%.6g\t%.6g\t%.6g\t%d\t%.6g\t%.17g\n", t, dt,
-            st->iterations, 100 * st->err_avg, 100 * st->err_max, st->vmax, st->fmax, shock, wall,
-            dt_next);
+    fprintf(r->f, "%.10g\t%.17g\t%d\t%.6g\t%.6g\t%.6g\t%.6g\t%d\t%.6g\t%.17g\t%.6g\t%.6g\n", t,
+            dt, st->iterations, 100 * st->err_avg, 100 * st->err_max, st->vmax, st->fmax, shock,
+            wall, dt_next, 100 * st->vol_avg, 100 * st->vol_max);
 }
 
 void rec_close(case_record *r)

@@ -74,6 +74,7 @@ void pcs_free(pcs_solver *s)
     nbr_list_free(&s->bf);
     sl_free_aligned(s->active);
     sl_free_aligned(s->err);
+    sl_free_aligned(s->err_vol);
     sl_free_aligned(s->wall_d);
     sl_free_aligned(s->wall_b);
     sl_free_aligned(s->ap_best);
@@ -89,6 +90,10 @@ static void ensure_scratch(pcs_solver *s)
         if (s->prm.max_iter > s->prm.min_iter) {
             sl_free_aligned(s->ap_best);
             s->ap_best = sl_alloc_aligned(3 * s->f->cap * sizeof *s->ap_best, "pressure force");
+        }
+        if (s->prm.method != BND_IHMSEN2010) {
+            sl_free_aligned(s->err_vol);
+            s->err_vol = sl_alloc_aligned(s->f->cap * sizeof *s->err_vol, "density error");
         }
         if (s->prm.method == BND_HARADA2007) {
             sl_free_aligned(s->wall_d);
@@ -186,7 +191,7 @@ static inline __attribute__((always_inline)) double density_pass(pcs_solver *s, 
     const double *restrict bx = b->x, *restrict by = b->y, *restrict bz = b->z;
     const double *restrict bm = b->mass;
     double *restrict rho = f->rho, *restrict p = f->p, *restrict pt = f->pt;
-    double *restrict err = s->err;
+    double *restrict err = s->err, *restrict err_vol = s->err_vol;
     double emax = 0.0;
     /* the correction reads the densities of the previous pass (a copy, so
      * that every thread reads the same values) */
@@ -199,9 +204,13 @@ static inline __attribute__((always_inline)) double density_pass(pcs_solver *s, 
 #pragma omp parallel for schedule(static) reduction(max : emax)
     for (size_t i = 0; i < n; i++) {
         const double xi = xs[i], yi = ys[i], zi = zs[i];
-        double r = self + m * sph_sum_w(k, ffi, ffs[i], ffs[i + 1], xi, yi, zi, xs, ys, zs);
-        if (M == BND_IHMSEN2010) /* eq. (13) */
-            r += sph_sum_mw(k, fbi, fbs[i], fbs[i + 1], xi, yi, zi, bx, by, bz, bm);
+        const double rf = self + m * sph_sum_w(k, ffi, ffs[i], ffs[i + 1], xi, yi, zi, xs, ys, zs);
+        /* eq. (13); for the other methods only measured (vol_avg) */
+        const double rb = (M == BND_IHMSEN2010 || predict)
+                              ? sph_sum_mw(k, fbi, fbs[i], fbs[i + 1], xi, yi, zi, bx, by, bz, bm)
+                              : 0.0;
+        double r = rf;
+        if (M == BND_IHMSEN2010) r += rb;
         if (M == BND_HARADA2007) { /* wall weight Z(d) [HKK07] */
             double d = 0.0, z = 0.0, dz = 0.0;
             uint32_t j = bnd_nearest(&s->fb, b, i, xi, yi, zi, &d);
@@ -210,16 +219,19 @@ static inline __attribute__((always_inline)) double density_pass(pcs_solver *s, 
             s->wall_d[i] = dz;
             r += z;
         }
+        double rv = rf + rb; /* the density with the wall's share, for every method */
         if (bk) { /* Bonet & Kulasegaram 2002: r / sum_j V_j W_ij where it is < 1 */
-            double sh = m * (krn_w(&k, 0.0) / rho_prev[i] +
-                             sph_sum_w_over(k, ffi, ffs[i], ffs[i + 1], xi, yi, zi, xs, ys, zs,
-                                            rho_prev));
-            if (M == BND_IHMSEN2010)
-                sh += sph_sum_mw(k, fbi, fbs[i], fbs[i + 1], xi, yi, zi, bx, by, bz, bm) / rho0;
+            const double shf = m * (krn_w(&k, 0.0) / rho_prev[i] +
+                                    sph_sum_w_over(k, ffi, ffs[i], ffs[i + 1], xi, yi, zi, xs, ys,
+                                                   zs, rho_prev));
+            const double shv = shf + rb / rho0;
+            const double sh = M == BND_IHMSEN2010 ? shv : shf;
             if (sh < 1.0 && sh > 0.0) r /= sh;
+            if (shv < 1.0 && shv > 0.0) rv /= shv;
         }
         rho[i] = r;
         if (!predict) continue;
+        if (M != BND_IHMSEN2010) err_vol[i] = rv > rho0 ? rv - rho0 : 0.0;
         const double e = r - rho0;
         const double pn = p[i] + delta * e; /* eq. (3) */
         const double pc = pn > 0.0 ? pn : 0.0;
@@ -435,6 +447,13 @@ void pcs_step(pcs_solver *s, pcs_stats *st)
     st->converged = emax <= s->eta_abs;
     st->err_max = emax / rho0;
     st->err_avg = sl_sum(s->err, f->n) * inv_n / rho0;
+    if (s->prm.method == BND_IHMSEN2010) {
+        st->vol_avg = st->err_avg;
+        st->vol_max = st->err_max;
+    } else {
+        st->vol_avg = sl_sum(s->err_vol, f->n) * inv_n / rho0;
+        st->vol_max = f->n ? sl_max(s->err_vol, f->n) / rho0 : 0.0;
+    }
     st->nactive = s->nactive;
 
     integrate(s, st);

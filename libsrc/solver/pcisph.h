@@ -52,6 +52,11 @@ typedef struct pcs_stats {
     int converged;           /* max error <= eta at exit */
     double err_avg_before, err_max_before;  /* first prediction (p = 0) */
     double err_avg, err_max;                /* last prediction */
+    /* The same compression measured alike for every boundary method: the
+     * density with the wall's share from the boundary particles of eq. (13)
+     * (ihmsen2010: err_avg, err_max; becker2009 and harada2007 solve
+     * without it, so their own err_* cannot see fluid pressed into a wall). */
+    double vol_avg, vol_max;
     double vmax;             /* max |v(t + dt)| */
     double fmax;             /* max |F/m| (all forces) */
     size_t nactive;          /* active boundary particles */
@@ -91,6 +96,7 @@ struct pcs_solver {
     uint32_t *active;
     size_t nactive;
     double *err;           /* per-fluid-particle compression (scratch) */
+    double *err_vol;       /* becker2009, harada2007: the same with the wall's density */
     size_t err_cap;
     const pcs_boundary_ops *bops;
     bnd_wall_table wall;   /* harada2007 */

@@ -166,7 +166,12 @@ static double seconds_since(const struct timespec *t0)
 }
 
 /* Read the complete rows of the record written since the last call. */
-static void read_record(sts_trial *t)
+const char *sts_measure_name(int measure)
+{
+    return measure == STS_RHO_ERR_AVG ? "rhoErrAvg" : "volErrAvg";
+}
+
+static void read_record(const sts_run *r, sts_trial *t)
 {
     FILE *f = fopen(t->record, "r");
     char *line = NULL;
@@ -181,21 +186,26 @@ static void read_record(sts_trial *t)
         if (line[len - 1] != '\n') break; /* being written: read it next time */
         t->record_offset += (long)len;
         if (line[0] == '#') continue;
-        double v[8];
+        /* Time deltaT iterations rhoErrAvg rhoErrMax vMax FMax shock wallTime
+         * controllerDeltaT volErrAvg volErrMax */
+        double v[12];
         char *s = line, *end;
         int k;
-        for (k = 0; k < 8; k++, s = end) {
+        for (k = 0; k < 12; k++, s = end) {
             v[k] = strtod(s, &end);
             if (end == s) break;
         }
-        if (k < 8 || v[7] != 0.0) continue; /* short row, or a step discarded by a shock */
+        if (k < 12 || v[7] != 0.0) continue; /* short row, or a step discarded by a shock */
+        const double judged = r->opt.measure == STS_RHO_ERR_AVG ? v[3] : v[10];
         t->steps++;
         t->iterations += v[2];
         t->t_reached = v[0];
-        if (!(v[3] <= t->err_avg_max)) { /* NaN wins */
-            t->err_avg_max = v[3];
+        if (!(judged <= t->err_avg_max)) { /* NaN wins */
+            t->err_avg_max = judged;
             t->t_err_avg_max = v[0];
         }
+        if (!(v[3] <= t->own_avg_max)) t->own_avg_max = v[3];
+        if (!(v[10] <= t->vol_avg_max)) t->vol_avg_max = v[10];
     }
     free(line);
     fclose(f);
@@ -208,8 +218,8 @@ static int above_bound(const sts_run *r, const sts_trial *t)
 
 static void set_above_bound_reason(const sts_run *r, sts_trial *t)
 {
-    snprintf(t->reason, sizeof t->reason, "rhoErrAvg %.4g %% >= %g %% at t = %.4g s",
-             t->err_avg_max, r->opt.bound, t->t_err_avg_max);
+    snprintf(t->reason, sizeof t->reason, "%s %.4g %% >= %g %% at t = %.4g s",
+             sts_measure_name(r->opt.measure), t->err_avg_max, r->opt.bound, t->t_err_avg_max);
 }
 
 /* SIGKILL our own child and reap it. */
@@ -226,8 +236,8 @@ static void kill_child(sts_trial *t)
 int sts_trial_monitor(const sts_run *r, sts_trial *t)
 {
     if (t->status != STS_RUNNING) return 0;
-    read_record(t);
-    if (!above_bound(r, t)) return 0;
+    read_record(r, t);
+    if (t->common || !above_bound(r, t)) return 0; /* a common run is for the pictures: to the end */
     kill_child(t);
     t->wall = seconds_since(&t->start);
     t->status = STS_UNSTABLE;
@@ -328,8 +338,8 @@ static void check_particles(const sts_run *r, sts_trial *t)
                  t->lost, tv);
     } else {
         t->status = STS_STABLE;
-        snprintf(t->reason, sizeof t->reason, "max rhoErrAvg %.4g %% at t = %.4g s",
-                 t->err_avg_max, t->t_err_avg_max);
+        snprintf(t->reason, sizeof t->reason, "max %s %.4g %% at t = %.4g s",
+                 sts_measure_name(r->opt.measure), t->err_avg_max, t->t_err_avg_max);
     }
     free(vtu);
     free(sub);
@@ -341,7 +351,7 @@ void sts_trial_finish(const sts_run *r, sts_trial *t, int status)
     char why[sizeof t->reason - 64];
     t->pid = -1;
     t->wall = seconds_since(&t->start);
-    read_record(t);
+    read_record(r, t);
     if (WIFSIGNALED(status)) {
         t->status = STS_UNSTABLE;
         snprintf(t->reason, sizeof t->reason, "the solver was killed by signal %d",
