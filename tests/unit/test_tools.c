@@ -1,7 +1,8 @@
 /* Tests of the case tools: editDictionary, cloneCase, listTimes, cleanCase,
  * sweepCase, plotSweep and monitorCase, run as programs (from $SLUICE_BIN,
  * default bin/) on files written under tests/output/tools/.  The sweep test
- * runs the solver on a tiny hydrostatic tank (about a second). */
+ * runs the solver on a tiny hydrostatic tank (about a second); the plotSweep
+ * tests (-pareto, -where) use a hand-written table with a known front. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -324,13 +325,14 @@ static void test_sweep_collect_fake_results(void **state)
         snprintf(p, sizeof p, "%s/log.pcisph", dir);
         spit(p, "Time = 0.1\nEnd: 3 steps\n");
         snprintf(p, sizeof p, "%s/postProcessing/timeStep/0/timeStep.dat", dir);
-        /* steps = rows, wall = sum, mean iterations, max errors, sum of shocks */
+        /* steps = rows, wall = sum, mean iterations, max errors, sum of shocks,
+         * mean rhoErrAvg, max volErrAvg */
         const char *head = "# Time\tdeltaT\titerations\trhoErrAvg\trhoErrMax\tvMax\tFMax\t"
-                           "shock\twallTime\n";
-        const char *rows = i == 0 ? "0.1\t0.1\t4\t0.05\t0.5\t1\t1\t0\t1.5\n"
-                                    "0.2\t0.1\t6\t0.07\t0.4\t1\t1\t1\t2.5\n"
-                                    "0.3\t0.1\t8\t0.06\t0.6\t1\t1\t1\t3\n"
-                                  : "0.1\t0.1\t3\t0.5\t0.9\t1\t1\t0\t1\n";
+                           "shock\twallTime\tvolErrAvg\n";
+        const char *rows = i == 0 ? "0.1\t0.1\t4\t0.05\t0.5\t1\t1\t0\t1.5\t0.9\n"
+                                    "0.2\t0.1\t6\t0.07\t0.4\t1\t1\t1\t2.5\t1.25\n"
+                                    "0.3\t0.1\t8\t0.06\t0.6\t1\t1\t1\t3\t1.1\n"
+                                  : "0.1\t0.1\t3\t0.5\t0.9\t1\t1\t0\t1\t2\n";
         char record[512];
         snprintf(record, sizeof record, "%s%s", head, rows);
         spit(p, record);
@@ -340,12 +342,12 @@ static void test_sweep_collect_fake_results(void **state)
     assert_int_equal(tool("sweepCase", "-collect " OUT "/sweepFake/sweepDict", bin_dir()), 0);
     char *csv = slurp(OUT "/sweepFake/results.csv");
     assert_string_equal(csv, "case,eta,status,wallTime,steps,meanIterations,maxRhoErrAvg,"
-                             "maxRhoErrMax,shocks,p\n"
-                             "eta_0.1,0.1,finished,7,3,6,0.07,0.6,2,12.5\n"
-                             "eta_1,1,finished,1,1,3,0.5,0.9,0,20\n");
+                             "maxRhoErrMax,shocks,meanRhoErrAvg,maxVolErrAvg,p\n"
+                             "eta_0.1,0.1,finished,7,3,6,0.07,0.6,2,0.06,1.25,12.5\n"
+                             "eta_1,1,finished,1,1,3,0.5,0.9,0,0.5,2,20\n");
     free(csv);
     char *md = slurp(OUT "/sweepFake/results.md");
-    assert_non_null(strstr(md, "| eta_0.1 | 0.1 | finished | 7 | 3 | 6 | 0.07 | 0.6 | 2 | 12.5 |"));
+    assert_non_null(strstr(md, "| eta_0.1 | 0.1 | finished | 7 | 3 | 6 | 0.07 | 0.6 | 2 | 0.06 | 1.25 | 12.5 |"));
     free(md);
 }
 
@@ -397,6 +399,151 @@ static void test_sweep_runs_the_solver(void **state)
     assert_non_null(strstr(output, "rhoErrMax"));
 }
 
+/* ---- plotSweep -pareto and -where ------------------------------------------------- */
+
+/* A results table with a known Pareto front for (wallTime, err), less being
+ * better: a, b, c (b's exact tie) and e.  d loses to b (same err, slower), h
+ * to a (same time, larger err), g to all of them; f, i, j and k have no
+ * finite pair (nan, '-', inf, empty) and f would beat everything if it
+ * counted.  The quoted note checks that rows are copied as they are. */
+#define PARETO OUT "/pareto"
+static const char *pareto_header = "case,mode,wallTime,err,note\n";
+static const char *pareto_rows[] = {
+    ['a'] = "a,adaptive,1,5,\"fast, rough\"\n",
+    ['b'] = "b,adaptive,2,3,\n",
+    ['c'] = "c,constant,2,3,tie with b\n",
+    ['d'] = "d,adaptive,3,3,beaten by b\n",
+    ['e'] = "e,constant,4,1,\n",
+    ['f'] = "f,adaptive,nan,0.5,\n",
+    ['g'] = "g,constant,5,4,\n",
+    ['h'] = "h,adaptive,1,6,beaten by a\n",
+    ['i'] = "i,constant,-,2,\n",
+    ['j'] = "j,adaptive,6,inf,\n",
+    ['k'] = "k,adaptive,4,,\n",
+};
+
+/* The header and the rows named by `names` (e.g. "abce"), in that order. */
+static char *pareto_table(const char *names)
+{
+    char *s = malloc(4096);
+    strcpy(s, pareto_header);
+    for (const char *n = names; *n; n++) strcat(s, pareto_rows[(int)*n]);
+    return s;
+}
+
+/* A fresh PARETO/ holding only results.csv (rows in the order f..k, a..e,
+ * so that the front is not simply the first rows). */
+static int write_pareto_table(void)
+{
+    if (run("command -v gnuplot") != 0) return 0;
+    fresh(PARETO);
+    char *table = pareto_table("fghijkabcde");
+    spit(PARETO "/results.csv", table);
+    free(table);
+    return 1;
+}
+
+static void assert_file_is_table(const char *path, const char *names)
+{
+    char *text = slurp(path), *want = pareto_table(names);
+    assert_string_equal(text, want);
+    free(text);
+    free(want);
+}
+
+static void test_plot_sweep_pareto(void **state)
+{
+    (void)state;
+    if (!write_pareto_table()) {
+        skip();
+        return;
+    }
+    assert_int_equal(tool("plotSweep", "-pareto -o " PARETO "/front.png " PARETO
+                          "/results.csv wallTime err",
+                          bin_dir()),
+                     0);
+    assert_file_is_table(PARETO "/front_pareto.csv", "abce");
+    assert_non_null(strstr(output, "Pareto front (4 of 7 rows):\n  case wallTime err\n"
+                                   "  a 1 5\n  b 2 3\n  c 2 3\n  e 4 1\n"));
+    assert_non_null(strstr(output, "Note: 4 of 11 rows of " PARETO "/results.csv left out"));
+    char *png = slurp(PARETO "/front.png");
+    assert_memory_equal(png, "\x89PNG", 4);
+    free(png);
+    /* the front is in the legend; without -pareto no front is written */
+    assert_int_equal(tool("plotSweep", "-pareto -dumb " PARETO "/results.csv wallTime err",
+                          bin_dir()),
+                     0);
+    assert_non_null(strstr(output, "Pareto front $"));
+    assert_int_equal(run("rm " PARETO "/err_vs_wallTime_pareto.csv"), 0);
+    assert_int_equal(tool("plotSweep", PARETO "/results.csv wallTime err", bin_dir()), 0);
+    assert_true(exists(PARETO "/err_vs_wallTime.png"));
+    assert_false(exists(PARETO "/err_vs_wallTime_pareto.csv"));
+    assert_null(strstr(output, "Pareto"));
+}
+
+static void test_plot_sweep_where(void **state)
+{
+    (void)state;
+    if (!write_pareto_table()) {
+        skip();
+        return;
+    }
+    assert_int_equal(tool("plotSweep", "-pareto -where mode=constant -o " PARETO
+                          "/constant.png " PARETO "/results.csv wallTime err",
+                          bin_dir()),
+                     0);
+    assert_file_is_table(PARETO "/constant_pareto.csv", "ce"); /* g beaten, i left out */
+    assert_non_null(strstr(output, "Note: 1 of 4 rows"));
+    /* two conditions, both must hold; the default name tells the subset */
+    assert_int_equal(tool("plotSweep", "-pareto -where mode=adaptive -where wallTime=1 " PARETO
+                          "/results.csv wallTime err",
+                          bin_dir()),
+                     0);
+    assert_file_is_table(PARETO "/err_vs_wallTime_mode_adaptive_wallTime_1_pareto.csv", "a");
+    assert_true(exists(PARETO "/err_vs_wallTime_mode_adaptive_wallTime_1.png"));
+    assert_non_null(strstr(output, "(1 of 2 rows)")); /* a and h */
+}
+
+/* Each error names the file and the column or argument, exits non-zero and
+ * leaves no file behind, even when gnuplot fails after the front is written. */
+static void test_plot_sweep_where_errors(void **state)
+{
+    (void)state;
+    if (!write_pareto_table()) {
+        skip();
+        return;
+    }
+    assert_int_not_equal(tool("plotSweep", "-pareto -where mdoe=adaptive " PARETO
+                              "/results.csv wallTime err",
+                              bin_dir()),
+                         0);
+    assert_non_null(strstr(output, PARETO "/results.csv: no column 'mdoe' (-where mdoe=adaptive)"));
+    assert_int_not_equal(tool("plotSweep", "-pareto -where mode " PARETO
+                              "/results.csv wallTime err",
+                              bin_dir()),
+                         0);
+    assert_non_null(strstr(output, "bad -where 'mode'"));
+    assert_int_not_equal(tool("plotSweep", "-pareto -where mode=adaptve " PARETO
+                              "/results.csv wallTime err",
+                              bin_dir()),
+                         0);
+    assert_non_null(strstr(output, PARETO "/results.csv: no row has -where mode=adaptve"));
+    assert_non_null(strstr(output, "Values of 'mode' in " PARETO "/results.csv: 'adaptive' "
+                                   "'constant'\n"));
+    assert_int_not_equal(tool("plotSweep", "-pareto -where case=f " PARETO
+                              "/results.csv wallTime err",
+                              bin_dir()),
+                         0);
+    assert_non_null(strstr(output, "no row left by -where has finite numbers"));
+    /* gnuplot fails (no positive x on a log axis) after the front was written */
+    spit(PARETO "/negative.csv", "case,x,y\na,-1,2\nb,-2,1\n");
+    assert_int_not_equal(tool("plotSweep", "-pareto -logx " PARETO "/negative.csv x y", bin_dir()),
+                         0);
+    assert_non_null(strstr(output, "gnuplot failed"));
+    assert_int_equal(run("ls -a " PARETO " | tr '\\n' ' '"), 0);
+    assert_string_equal(output, ". .. negative.csv results.csv ");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -411,6 +558,9 @@ int main(void)
         cmocka_unit_test(test_sweep_print_jobs),
         cmocka_unit_test(test_sweep_collect_fake_results),
         cmocka_unit_test(test_sweep_runs_the_solver),
+        cmocka_unit_test(test_plot_sweep_pareto),
+        cmocka_unit_test(test_plot_sweep_where),
+        cmocka_unit_test(test_plot_sweep_where_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

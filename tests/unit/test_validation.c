@@ -1,8 +1,9 @@
 /* Tests of compareExperiment, run as a program (from $SLUICE_BIN, default
  * bin/) on a synthetic case written under tests/output/validation/: fake
  * function-object files and a fake experimental CSV whose arrival times,
- * errors, plateaus and peaks are known in closed form.  Then the inputs
- * that must stop it with a message naming what is wrong. */
+ * errors, plateaus and peaks are known in closed form, and the means of
+ * them in summary.dat.  Then the inputs that must stop it with a message
+ * naming what is wrong. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -10,6 +11,8 @@
 #include <cmocka.h>
 
 #include "tool_run.h"
+
+#include "casefiles/casefiles.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -22,6 +25,7 @@
 #define CASE OUT "/case"
 #define CSV OUT "/exp.csv"
 #define TABLE CASE "/postProcessing/compareExperiment/table.csv"
+#define SUMMARY CASE "/postProcessing/compareExperiment/summary.dat"
 
 /* compareExperiment with arguments. */
 #define compare(...) run("%s/compareExperiment " __VA_ARGS__)
@@ -298,6 +302,176 @@ static void test_plots(void **state)
     }
 }
 
+/* ---- summary.dat ------------------------------------------------------------------ */
+
+/* |a - b| <= tol in double precision (cmocka's assert_float_equal compares
+ * floats); NaN fails. */
+#define assert_near(a, b, tol)                                                              \
+    do {                                                                                    \
+        double a_ = (a), b_ = (b);                                                          \
+        if (!(fabs(a_ - b_) <= (tol)))                                                      \
+            fail_msg("%s = %.12g, expected %.12g +- %g", #a, a_, b_, (double)(tol));        \
+    } while (0)
+
+enum { S_RMS, S_MAX, S_ARRIVAL, S_ARRIVAL_MAX, S_PLATEAU, S_PEAK, S_NH, S_NP, S_N };
+static const char *const summary_column[S_N] = {
+    "heightRms",    "heightMaxAbs", "arrivalError", "arrivalErrorMax",
+    "plateauError", "peakError",    "nHeights",     "nPressures"};
+
+/* summary.dat read as sweepCase reads a result (cf_table_read: the last
+ * '#' line names the columns): exactly these columns, one row. */
+static void read_summary(double v[S_N])
+{
+    cf_table t;
+    sl_err err;
+    if (cf_table_read(SUMMARY, &t, &err)) fail_msg("%s", err.msg);
+    assert_int_equal(t.ncol, S_N);
+    assert_int_equal(t.nrow, 1);
+    for (int c = 0; c < S_N; c++) {
+        assert_string_equal(t.name[c], summary_column[c]);
+        v[c] = t.v[c];
+    }
+    cf_table_free(&t);
+}
+
+/* H1's RMS error over 0..2, summed as in test_height_errors. */
+static double h1_rms(void)
+{
+    double s2 = 0;
+    for (int k = 0; k <= 2000; k++) {
+        double x = 0.001 * k, e = fmax(0.0, x - 0.5) - fmax(0.0, x - 0.4);
+        s2 += e * e;
+    }
+    return sqrt(s2 / 2001);
+}
+
+static void test_summary(void **state)
+{
+    (void)state;
+    char *t = run_default();
+    double v[S_N];
+    read_summary(v);
+    /* heights: RMS H1 and 0.05 (H2); max |e| 0.1 (H1) and 0.05 */
+    assert_near(v[S_RMS], 0.5 * (h1_rms() + 0.05), 1e-9);
+    assert_near(v[S_MAX], 0.1, 1e-9);
+    /* arrivals: H1 0.6 - 0.5; H2 is wet from the start and left out (with it,
+     * the mean would be 0.05) */
+    assert_near(v[S_ARRIVAL], 0.1, 1e-9);
+    assert_near(v[S_ARRIVAL_MAX], 0.1, 1e-9);
+    /* plateaus: P1 |1000 - 2000| / 2000, P2 1000 against 1000 (the noise
+     * averages out over whole segments) */
+    assert_near(v[S_PLATEAU], 0.5 * (0.5 + 0.0), 1e-6);
+    /* filtered peaks: P1 1000 against 2000; P2's 0.2 s average is 1000 over
+     * whole segments of the +-300 noise, and the windows around t = 1.015,
+     * 1.035, ... end half-way into a 0.01 s segment rising 1000 -> 1300:
+     * + 150 Pa * 0.005 s / 0.2 s = 3.75 Pa over the experiment's 1000 */
+    assert_near(v[S_PEAK], 0.5 * (0.5 + 0.00375), 1e-6);
+    /* ... which is what table.csv holds */
+    double p2 = metric(t, "loads,P2,peak_filtered_sim");
+    assert_near(v[S_PEAK], 0.5 * (0.5 + fabs(p2 - 1000) / 1000), 1e-9);
+    assert_near(v[S_NH], 2, 0);
+    assert_near(v[S_NP], 2, 0);
+    free(t);
+    /* printed after the table, too */
+    assert_non_null(strstr(output, "# heightRms\theightMaxAbs\tarrivalError\tarrivalErrorMax\t"
+                                   "plateauError\tpeakError\tnHeights\tnPressures\n"));
+    assert_non_null(strstr(output, "\t2\t2\n"));
+    /* the comment lines say what went in */
+    char *s = slurp(SUMMARY);
+    assert_non_null(strstr(s, "# height series: heights/H1, heights/H2 (window 0-2 s)\n"));
+    assert_non_null(strstr(s, "# arrivals of: heights/H1\n"));
+    assert_non_null(strstr(s, "moving average of 0.2 s"));
+    assert_non_null(strstr(s, "# plateaus of: loads/P1, loads/P2 (plateau 1.2-1.8 s)\n"));
+    free(s);
+    /* written through a temporary file, none left behind */
+    assert_int_not_equal(run("ls %s/postProcessing/compareExperiment | grep tmp", CASE), 0);
+}
+
+static void test_summary_unfiltered(void **state)
+{
+    (void)state;
+    fresh_case();
+    assert_int_equal(compare("-case %s -data %s -noPlot -filter 0", bin_dir(), CASE, CSV), 0);
+    double v[S_N];
+    read_summary(v);
+    /* raw peaks: P1 1000 against 2000, P2 1300 against 1000 */
+    assert_near(v[S_PEAK], 0.5 * (0.5 + 0.3), 1e-9);
+    /* plateaus are time averages of the unfiltered pressures anyway */
+    assert_near(v[S_PLATEAU], 0.25, 1e-6);
+}
+
+static void test_summary_groups(void **state)
+{
+    (void)state;
+    fresh_case();
+    /* 'summary no' leaves out H1 and P2: were they counted, the means would
+     * be those of test_summary */
+    spit(CASE "/system/compareExperimentDict",
+         "filter 0.2;\n"
+         "groups {\n"
+         "  wet { quantity height; functionObject gauges; threshold 0.1; window (0 2);\n"
+         "        H2 { data H2_m; column height_1; } }\n"
+         "  front { quantity height; functionObject gauges; threshold 0.1; window (0 2);\n"
+         "          summary no; H1 { data H1_m; column height_0; } }\n"
+         "  wall { quantity pressure; functionObject probes; threshold 500; window (0 2);\n"
+         "         plateau (1.2 1.8); summary no; P2 { data P2_Pa; column pressure_1; } }\n"
+         "  fluid { quantity pressure; functionObject probes; threshold 500; window (0 2);\n"
+         "          plateau (1.2 1.8); summary yes; P1 { data P1_Pa; column pressure_0; } }\n"
+         "}\n");
+    assert_int_equal(compare("-case %s -data %s -noPlot", bin_dir(), CASE, CSV), 0);
+    double v[S_N];
+    read_summary(v);
+    assert_near(v[S_RMS], 0.05, 1e-9);
+    assert_near(v[S_MAX], 0.05, 1e-9);
+    /* the one gauge left is wet from the start: no arrival, nan */
+    assert_true(isnan(v[S_ARRIVAL]));
+    assert_true(isnan(v[S_ARRIVAL_MAX]));
+    assert_near(v[S_PLATEAU], 0.5, 1e-6);
+    assert_near(v[S_PEAK], 0.5, 1e-6);
+    assert_near(v[S_NH], 1, 0);
+    assert_near(v[S_NP], 1, 0);
+    /* the table still has them */
+    char *t = slurp(TABLE);
+    assert_near(metric(t, "front,H1,arrival_sim"), 0.6, 1e-9);
+    assert_near(metric(t, "wall,P2,peak_raw_sim"), 1300, 1e-9);
+    free(t);
+    char *s = slurp(SUMMARY);
+    assert_non_null(strstr(s, "# groups not counted (summary no): front, wall\n"));
+    free(s);
+
+    /* no height series counted, no pressure with a plateau: nan, and 0 */
+    spit(CASE "/system/compareExperimentDict",
+         "filter 0.2;\n"
+         "groups {\n"
+         "  heights { quantity height; functionObject gauges; threshold 0.1; window (0 2);\n"
+         "            summary off; H1 { data H1_m; column height_0; } }\n"
+         "  loads { quantity pressure; functionObject probes; threshold 500; window (0 2);\n"
+         "          P2 { data P2_Pa; column pressure_1; } }\n"
+         "}\n");
+    assert_int_equal(compare("-case %s -data %s -noPlot", bin_dir(), CASE, CSV), 0);
+    read_summary(v);
+    for (int c = S_RMS; c <= S_PLATEAU; c++)
+        if (!isnan(v[c])) fail_msg("%s is %g, not nan", summary_column[c], v[c]);
+    assert_near(v[S_PEAK], 0.00375, 1e-6);
+    assert_near(v[S_NH], 0, 0);
+    assert_near(v[S_NP], 1, 0);
+    assert_non_null(strstr(output, "nan\tnan\tnan\tnan\tnan\t"));
+}
+
+static void test_summary_bad_keyword(void **state)
+{
+    (void)state;
+    fresh_case();
+    spit(CASE "/system/compareExperimentDict",
+         "groups\n{\n  h\n  {\n    quantity height; functionObject gauges; threshold 0.1;\n"
+         "    summary maybe;\n    H1 { data H1_m; column height_0; }\n  }\n}\n");
+    assert_int_not_equal(compare("-case %s -data %s -noPlot", bin_dir(), CASE, CSV), 0);
+    assert_non_null(strstr(output, "compareExperimentDict:6"));
+    assert_non_null(strstr(output, "'summary'"));
+    assert_non_null(strstr(output, "maybe"));
+    assert_false(exists(SUMMARY));
+}
+
 /* ---- bad inputs ------------------------------------------------------------------- */
 
 static void test_missing_files(void **state)
@@ -365,6 +539,10 @@ int main(void)
         cmocka_unit_test(test_window_and_filter_options),
         cmocka_unit_test(test_normalised_columns),
         cmocka_unit_test(test_plots),
+        cmocka_unit_test(test_summary),
+        cmocka_unit_test(test_summary_unfiltered),
+        cmocka_unit_test(test_summary_groups),
+        cmocka_unit_test(test_summary_bad_keyword),
         cmocka_unit_test(test_missing_files),
         cmocka_unit_test(test_bad_columns_and_dictionary),
     };

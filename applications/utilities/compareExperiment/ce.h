@@ -11,6 +11,8 @@
  *   ce_setup.c   system/compareExperimentDict: which experimental column
  *                goes with which column of the run, thresholds and windows
  *   ce_report.c  the comparison of one series, table.md, table.csv
+ *   ce_summary.c summary.dat: one row of scalar accuracy measures (for
+ *                sweepCase's results)
  *   ce_plot.c    gnuplot overlays, one PNG per group
  *
  * A series is a time column and a value column with strictly increasing
@@ -136,6 +138,7 @@ typedef struct ce_group {
     char *name, *title;
     ce_kind kind;
     char *fo;          /* function object: postProcessing/<fo>/ */
+    int summary;       /* counted in summary.dat ('summary', default yes) */
     ce_entry *e;
     size_t n;
 } ce_group;
@@ -184,6 +187,30 @@ void ce_result_free(ce_result *r);
 /* table.md and table.csv in dir. */
 void ce_report_write(const char *dir, const char *case_dir, const ce_setup *s,
                      const char *const *data_files, size_t ndata, const ce_result *r, size_t n);
+
+/* ---- the one-row summary (ce_summary.c) ---------------------------------------------- */
+
+/* Means over the series of the groups with 'summary yes', from the same
+ * numbers as table.csv; NaN where no series enters a mean. */
+typedef struct ce_summary {
+    double height_rms;   /* mean RMS error of the heights, m */
+    double height_max;   /* largest max |e| of the heights, m */
+    double arrival;      /* mean |arrival sim - exp|, s (both arrive, neither wet at t_0) */
+    double arrival_max;  /* largest of those, s */
+    double plateau;      /* mean |plateau sim - exp| / |plateau exp| */
+    double peak;         /* mean |filtered peak sim - exp| / filtered peak exp */
+    size_t nheight;      /* series in height_rms and height_max */
+    size_t npressure;    /* series in peak */
+} ce_summary;
+
+void ce_summary_compute(ce_summary *m, const ce_result *r, size_t n);
+/* The tab-separated header line ("# heightRms ...") and the data row. */
+void ce_summary_print(FILE *f, const ce_summary *m);
+/* <dir>/summary.dat (atomically): comment lines defining the columns and
+ * naming the series, then ce_summary_print. */
+void ce_summary_write(const char *dir, const char *case_dir, const ce_setup *s,
+                      const char *const *data_files, size_t ndata, const ce_result *r, size_t n,
+                      const ce_summary *m);
 
 /* ---- plots (ce_plot.c) ---------------------------------------------------------- */
 

@@ -21,6 +21,8 @@
  *           threshold       0.01;           // m (height) or Pa (pressure)
  *           window          (0 2);          // s: errors and peaks (default: all)
  *           plateau         (0.5 1);        // s, pressure only (optional)
+ *           summary         yes;            // counted in summary.dat (default
+ *                                           // yes; no: e.g. a second reference)
  *           H1 { data H1_m; column height_0; }          // any other keyword:
  *           P2 { data median; column pressure_1;        // a series, which may
  *                band (p2.5 p97.5); window (0 1); }     // override the above
@@ -41,7 +43,7 @@ static const char *const top_keys[] = {"experiment", "filter", "groups", NULL};
 static const char *const exp_keys[] = {"normalised", "length", "density", "gravity", "timeShift",
                                        NULL};
 static const char *const group_keys[] = {"quantity", "functionObject", "title", "threshold",
-                                         "window", "plateau", NULL};
+                                         "window", "plateau", "summary", NULL};
 static const char *const entry_keys[] = {"data", "column", "band", "threshold", "window",
                                          "plateau", NULL};
 
@@ -158,6 +160,7 @@ static void read_group(ce_group *g, const dict *d)
         bad(d, "functionObject", "must be the name of a function object, not a path");
     need(dict_get_word_or(d, "title", g->name, &w, &err), &err);
     g->title = sl_strdup(w);
+    need(dict_get_bool_or(d, "summary", 1, &g->summary, &err), &err);
     for (size_t i = 0; i < dict_size(d); i++)
         if (dict_entry_dict(dict_entry_at(d, i))) g->n++;
     if (g->n == 0)

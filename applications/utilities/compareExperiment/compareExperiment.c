@@ -11,7 +11,9 @@
  *              the peak against an experimental band (percentiles of
  *              repeated runs) where the dictionary names one;
  * in postProcessing/compareExperiment/table.md and table.csv, with one
- * overlay plot per group (<group>.png, through gnuplot).
+ * overlay plot per group (<group>.png, through gnuplot), and the means of
+ * these over the series in one row, summary.dat (ce_summary.c), for
+ * sweepCase.
  *
  *   compareExperiment [-case <dir>] -data <csv> [-data <csv> ...]
  *                     [-dict <file>] [-window t0:t1] [-filter <s>] [-noPlot]
@@ -46,8 +48,12 @@ static void usage(int status)
             "  Compares the water heights and pressures a run's function objects wrote\n"
             "  (postProcessing/<name>/<startTime>/*.dat) with an experiment's CSV files,\n"
             "  column by column as <dir>/system/compareExperimentDict says.  Writes\n"
-            "  <dir>/postProcessing/compareExperiment/table.md, table.csv and one PNG per\n"
-            "  group (gnuplot).\n"
+            "  <dir>/postProcessing/compareExperiment/table.md, table.csv, one PNG per\n"
+            "  group (gnuplot) and summary.dat: one row of means over the series (height\n"
+            "  RMS and largest error, arrival, plateau and peak errors) for sweepCase's\n"
+            "  'results'.  A group with 'summary no;' in the dictionary is left out of it\n"
+            "  (default yes); dictionary syntax: see ce_setup.c or\n"
+            "  cases/sphericTest2/system/compareExperimentDict.\n"
             "  -case <dir>      the case (default: the current directory)\n"
             "  -data <csv>      experimental data: '#' comment lines, a header row,\n"
             "                   comma-separated rows, time in the first column; repeat for\n"
@@ -238,6 +244,9 @@ int main(int argc, char **argv)
     make_dir(pp);
     make_dir(out);
     ce_report_write(out, o.case_dir, &s, o.data, o.ndata, res, n);
+    ce_summary sum;
+    ce_summary_compute(&sum, res, n);
+    ce_summary_write(out, o.case_dir, &s, o.data, o.ndata, res, n, &sum);
     for (size_t gi = 0, first = 0; gi < s.ngrp; gi++) {
         size_t count = 0;
         while (first + count < n && res[first + count].g == &s.grp[gi]) count++;
@@ -247,6 +256,8 @@ int main(int argc, char **argv)
     char *md = ce_join(out, "table.md");
     show(md);
     free(md);
+    printf("\nSummary (%s/summary.dat; 'summary no' groups left out):\n", out);
+    ce_summary_print(stdout, &sum);
 
     for (size_t i = 0; i < n; i++) ce_result_free(&res[i]);
     for (size_t i = 0; i < o.ndata; i++) ce_table_free(&data[i]);

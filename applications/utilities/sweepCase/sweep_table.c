@@ -19,9 +19,10 @@
 #include "io/atomic_file.h"
 
 /* Columns computed from the per-step record, in table order. */
-enum { R_WALL, R_STEPS, R_ITER, R_AVG, R_MAX, R_SHOCK, R_N };
-static const char *const record_label[R_N] = {"wallTime",     "steps",        "meanIterations",
-                                              "maxRhoErrAvg", "maxRhoErrMax", "shocks"};
+enum { R_WALL, R_STEPS, R_ITER, R_AVG, R_MAX, R_SHOCK, R_MEAN_AVG, R_VOL, R_N };
+static const char *const record_label[R_N] = {
+    "wallTime", "steps",  "meanIterations", "maxRhoErrAvg",
+    "maxRhoErrMax", "shocks", "meanRhoErrAvg", "maxVolErrAvg"};
 
 typedef struct sweep_row {
     sweep_status status;
@@ -63,6 +64,8 @@ static void read_record(const char *dir, sweep_row *row)
     row->v[R_AVG] = column_reduce(&t, "rhoErrAvg", 'M');
     row->v[R_MAX] = column_reduce(&t, "rhoErrMax", 'M');
     row->v[R_SHOCK] = column_reduce(&t, "shock", 's');
+    row->v[R_MEAN_AVG] = column_reduce(&t, "rhoErrAvg", 'm');
+    row->v[R_VOL] = column_reduce(&t, "volErrAvg", 'M');
     cf_table_free(&t);
     free(path);
 }
