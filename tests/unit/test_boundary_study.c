@@ -290,13 +290,15 @@ static void test_stable_time_step_ratio(void **state)
         below[m] = !strcmp(status, "belowDeltaTMin");
         if (!csv_field(csv, methods[m], 1, value, sizeof value)) fail_msg("no deltaT");
         dt[m] = strtod(value, NULL);
-        if (!below[m] && !(dt[m] > 0)) fail_msg("%s: no stable deltaT found (%s)", methods[m], status);
+        if (!below[m] && !(dt[m] > 0))
+            fail_msg("%s: no stable deltaT found (%s)", methods[m], status);
     }
     assert_int_equal(rc, 0);
     if (below[0]) fail_msg("ihmsen2010: no stable deltaT down to %g s", dt_min);
     if (below[1]) /* unstable at every step tried: its largest stable step is below dtMin */
         printf("  largest stable deltaT: ihmsen2010 %.4g s, becker2009 below %g s: ratio above "
-               "%.2f (paper, 23k particles: 0.0045 / 0.0008 = 5.6)\n", dt[0], dt_min, dt[0] / dt_min);
+               "%.2f (paper, 23k particles: 0.0045 / 0.0008 = 5.6)\n",
+               dt[0], dt_min, dt[0] / dt_min);
     else
         printf("  largest stable deltaT: ihmsen2010 %.4g s, becker2009 %.4g s: ratio %.2f "
                "(paper, 23k particles: 0.0045 / 0.0008 = 5.6)\n", dt[0], dt[1], dt[0] / dt[1]);

@@ -135,17 +135,7 @@ static void fresh_case(void)
     spit(CASE "/system/compareExperimentDict", dict_text);
 }
 
-/* The value of group,series,metric in table.csv; fails the test if absent. */
-static double metric(const char *csv, const char *key)
-{
-    char pat[256];
-    snprintf(pat, sizeof pat, "\n%s,", key);
-    const char *at = strstr(csv, pat);
-    if (!at) fail_msg("no metric '%s' in table.csv", key);
-    at = strchr(at + strlen(pat), ','); /* skip the unit */
-    assert_non_null(at);
-    return strtod(at + 1, NULL);
-}
+#define metric table_metric
 
 static char *run_default(void)
 {

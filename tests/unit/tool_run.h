@@ -10,6 +10,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 
@@ -59,6 +60,19 @@ static inline void spit(const char *path, const char *text)
     assert_non_null(f);
     fputs(text, f);
     fclose(f);
+}
+
+/* The value of "group,series,metric" in a compareExperiment table.csv
+ * (text csv); fails the test if absent. */
+static inline double table_metric(const char *csv, const char *key)
+{
+    char pat[256];
+    snprintf(pat, sizeof pat, "\n%s,", key);
+    const char *at = strstr(csv, pat);
+    if (!at) fail_msg("no metric '%s' in table.csv", key);
+    at = strchr(at + strlen(pat), ','); /* skip the unit */
+    assert_non_null(at);
+    return strtod(at + 1, NULL);
 }
 
 static inline int exists(const char *path)

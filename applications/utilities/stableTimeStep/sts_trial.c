@@ -237,7 +237,7 @@ int sts_trial_monitor(const sts_run *r, sts_trial *t)
 {
     if (t->status != STS_RUNNING) return 0;
     read_record(r, t);
-    if (t->common || !above_bound(r, t)) return 0; /* a common run is for the pictures: to the end */
+    if (t->common || !above_bound(r, t)) return 0; /* a common run (pictures) goes to the end */
     kill_child(t);
     t->wall = seconds_since(&t->start);
     t->status = STS_UNSTABLE;
