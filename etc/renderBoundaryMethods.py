@@ -17,8 +17,9 @@ flows along it), seen from the side; `-slice none` shows all particles.
 Default output: <case>/postProcessing/stableTimeStep/methods.png.
 
 Uses only VTK's Python modules, so it runs with Debian's python3-vtk9
-(`/usr/bin/python3 etc/renderBoundaryMethods.py ...`) and, untested here,
-with ParaView's `pvpython` or `pvbatch`, which ship the same modules.
+(`/usr/bin/python3 etc/renderBoundaryMethods.py ...`) and with ParaView's
+`pvbatch` or `pvpython`, which ship the same modules (checked with Debian's
+paraview 5.11: `xvfb-run -a pvbatch etc/renderBoundaryMethods.py <case>`).
 Rendering is offscreen; VTK on Debian still needs an X display, so without
 one the script runs itself again under `xvfb-run` (Debian package xvfb).
 """
