@@ -3,7 +3,10 @@
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 #include "dictionary/dict.h"
+#include "effects/gravity.h"
+#include "effects/moving_boundary.h"
 #include "geometry/mesh.h"
+#include "boundary/bnd_methods.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -13,10 +16,7 @@
 
 /* ---- error helpers: every failure names file, line and key ---- */
 
-static void need(int status, const sl_err *err)
-{
-    if (status) sl_fatal("%s", err->msg);
-}
+static void need(int status, const sl_err *err) { dict_need(status, err); }
 
 static dict *read_dict(const sl_case *c, const char *rel)
 {
@@ -33,16 +33,12 @@ static dict *read_dict(const sl_case *c, const char *rel)
 /* Stop with "<file>:<line>: keyword '<key>': <why>". */
 static void bad_value(const dict *d, const char *key, const char *why)
 {
-    const dict_entry *e = dict_lookup(d, key);
-    if (e)
-        sl_fatal("%s:%d: keyword '%s': %s", dict_entry_file(e), dict_entry_line(e), key, why);
-    sl_fatal("%s: keyword '%s': %s", dict_file(d), key, why);
+    dict_fatal(d, key, "%s", why);
 }
 
 static double positive(const dict *d, const char *key, double v)
 {
-    if (!(v > 0.0)) bad_value(d, key, "must be a positive number");
-    return v;
+    return dict_need_positive(d, key, v);
 }
 
 static int choose(const dict *d, const char *key, const char *word, const char *const *choices)
@@ -108,43 +104,25 @@ static void read_timestep(sl_case *c)
 
 /* ---- constant/fluidProperties ---- */
 
+/* The keys of constant/fluidProperties besides the effects' own entries
+ * (effects/: eff_fluid_effects). */
 static const char *const fluid_keys[] = {"rho0", "particleSpacing", "gravity", "eta",
-                                         "minIterations", "maxIterations", "viscosity",
-                                         "surfaceTension", "surfaceDensityCorrection",
-                                         "fluidRegions", "emitters", NULL};
-static const char *const viscosity_keys[] = {"alpha", "boundaryAlpha", "soundSpeed", "nu",
-                                             "boundaryNu", NULL};
+                                         "minIterations", "maxIterations", "fluidRegions",
+                                         "emitters", NULL};
 
-/* viscosity { alpha a; soundSpeed c; [boundaryAlpha ab;] }  or
- * viscosity { nu n; [boundaryNu nb;] }: Becker & Teschner 2007, with
- * alpha h c_s = 10 nu (see effects/viscosity.h). */
-static void read_viscosity(sl_case *c, const dict *v)
+/* fluid_keys and the names of the effects of constant/fluidProperties. */
+static const char **fluid_and_effect_keys(void)
 {
-    sl_err err;
-    pcs_params *p = &c->prm;
-    const double h = 2.0 * p->r0;
-    dict_warn_unknown(v, viscosity_keys);
-    p->viscosity = 1;
-    if (dict_has(v, "nu")) {
-        double nu, nub;
-        need(dict_get_scalar(v, "nu", &nu, &err), &err);
-        if (!(nu >= 0.0)) bad_value(v, "nu", "must be zero or positive");
-        need(dict_get_scalar_or(v, "boundaryNu", 0.0, &nub, &err), &err);
-        if (!(nub >= 0.0)) bad_value(v, "boundaryNu", "must be zero or positive");
-        p->visc.coef = 10.0 * nu;
-        p->visc.coef_boundary = 10.0 * nub;
-        return;
-    }
-    double alpha, alphab, cs;
-    need(dict_get_scalar(v, "alpha", &alpha, &err), &err);
-    if (!(alpha >= 0.0 && alpha <= 10.0)) bad_value(v, "alpha", "must be in [0, 10]");
-    need(dict_get_scalar_or(v, "boundaryAlpha", 0.0, &alphab, &err), &err);
-    if (!(alphab >= 0.0 && alphab <= 10.0)) bad_value(v, "boundaryAlpha", "must be in [0, 10]");
-    need(dict_get_scalar(v, "soundSpeed", &cs, &err), &err);
-    positive(v, "soundSpeed", cs);
-    p->visc.coef = alpha * h * cs;
-    p->visc.coef_boundary = alphab * h * cs;
+    size_t nf = 0, ne = 0;
+    while (fluid_keys[nf]) nf++;
+    while (eff_fluid_effects[ne]) ne++;
+    const char **k = sl_malloc((nf + ne + 1) * sizeof *k, "keys");
+    for (size_t i = 0; i < nf; i++) k[i] = fluid_keys[i];
+    for (size_t i = 0; i < ne; i++) k[nf + i] = eff_fluid_effects[i]->name;
+    k[nf + ne] = NULL;
+    return k;
 }
+
 static void read_shape_geometry(sl_case *c, const dict *s, geo_shape *g, geo_kind kind, int region);
 
 static const char *const region_keys[] = {"type", "min", "max", "centre", "radius", "point1",
@@ -223,7 +201,9 @@ static void read_fluid(sl_case *c)
     sl_err err;
     long l;
     double eta;
-    dict_warn_unknown(d, fluid_keys);
+    const char **keys = fluid_and_effect_keys();
+    dict_warn_unknown(d, keys);
+    free(keys);
     need(dict_get_scalar(d, "rho0", &p->rho0, &err), &err);
     if (!(p->rho0 >= 1e-3 && p->rho0 <= 1e5))
         bad_value(d, "rho0", "must be a liquid's rest density in kg/m^3 (between 1e-3 and 1e5)");
@@ -239,25 +219,11 @@ static void read_fluid(sl_case *c)
     need(dict_get_int_or(d, "maxIterations", 100, &l, &err), &err);
     if (l < p->min_iter || l > 100000) bad_value(d, "maxIterations", "must be at least minIterations");
     p->max_iter = (int)l;
-    if (dict_has(d, "viscosity")) {
-        const dict *v = dict_sub(d, "viscosity");
-        if (!v) bad_value(d, "viscosity", "must be a dictionary { alpha ..; soundSpeed ..; } or { nu ..; }");
-        read_viscosity(c, v);
-    }
-    if (dict_has(d, "surfaceTension")) {
-        static const char *const st_keys[] = {"kappa", NULL};
-        const dict *st = dict_sub(d, "surfaceTension");
-        if (!st) bad_value(d, "surfaceTension", "must be a dictionary { kappa ..; }");
-        dict_warn_unknown(st, st_keys);
-        need(dict_get_scalar(st, "kappa", &p->kappa, &err), &err);
-        if (!(p->kappa >= 0.0)) bad_value(st, "kappa", "must be zero or positive");
-        p->surface_tension = p->kappa > 0.0;
-    }
-    if (dict_has(d, "surfaceDensityCorrection")) {
-        /* `surfaceDensityCorrection { }` or `surfaceDensityCorrection on;` */
-        if (dict_sub(d, "surfaceDensityCorrection")) p->surface_density = 1;
-        else need(dict_get_bool(d, "surfaceDensityCorrection", &p->surface_density, &err), &err);
-    }
+    /* the effects of the fluid, in the order they act: gravity first */
+    void *g = eff_gravity_new(p->gravity);
+    if (g) eff_add(&c->effects, &eff_gravity, g);
+    const eff_setup su = {p->r0, pcs_support(p->r0), p->rho0, p->gravity};
+    eff_read_fluid(&c->effects, d, &su);
     if (dict_has(d, "emitters")) {
         const dict *em = dict_sub(d, "emitters");
         if (!em) bad_value(d, "emitters", "must be a dictionary of emitters");
@@ -419,15 +385,13 @@ static void read_shape(sl_case *c, const dict *s)
 
 static void read_boundary(sl_case *c)
 {
-    static const char *const methods[] = {"ihmsen2010", "becker2009", "harada2007", NULL};
     dict *d = read_dict(c, "constant/boundaryProperties");
     sl_err err;
     const char *w;
     dict_warn_unknown(d, boundary_keys);
-    need(dict_get_word_or(d, "method", "ihmsen2010", &w, &err), &err);
-    int m = choose(d, "method", w, methods);
-    c->prm.method = m == 0 ? BND_IHMSEN2010 : m == 1 ? BND_BECKER2009 : BND_HARADA2007;
-    snprintf(c->method, sizeof c->method, "%s", w);
+    need(dict_get_word_or(d, "method", c->prm.method->name, &w, &err), &err);
+    const char *const *methods = bnd_method_names();
+    c->prm.method = bnd_method_find(methods[choose(d, "method", w, methods)]);
     need(dict_get_scalar_or(d, "restitution", 0.0, &c->prm.restitution, &err), &err);
     if (!(c->prm.restitution >= 0.0 && c->prm.restitution <= 1.0))
         bad_value(d, "restitution", "must be in [0, 1]");
@@ -448,6 +412,8 @@ static void read_boundary(sl_case *c)
 void case_read(sl_case *c, const char *dir)
 {
     memset(c, 0, sizeof *c);
+    pcs_params_default(&c->prm);
+    eff_set_init(&c->effects);
     c->dir = sl_strdup(dir);
     prt_fluid_init(&c->fluid);
     prt_boundary_init(&c->boundary);
@@ -455,6 +421,8 @@ void case_read(sl_case *c, const char *dir)
     read_timestep(c);
     read_fluid(c);
     read_boundary(c);
+    void *moving = eff_moving_boundary_new(c->motions, c->nshapes);
+    if (moving) eff_add(&c->effects, &eff_moving_boundary, moving);
     sl_err err;
     if (ts_validate(&c->ts, c->prm.eta, &err))
         sl_fatal("%s/system/timeStepDict: %s (with eta = %g %% in constant/fluidProperties)",
@@ -565,10 +533,13 @@ void case_build(sl_case *c)
         sl_fatal("%s: too many particles (%zu fluid, %zu boundary)", c->dir, c->fluid.n,
                  c->boundary.n);
     for (int k = 0; k < 3; k++) { c->lo[k] -= 2 * r0; c->hi[k] += 2 * r0; }
+    void *emit = eff_emitter_new(c->emitters, c->nemitters, (uint32_t)c->fluid.n);
+    if (emit) eff_add(&c->effects, &eff_emitter, emit);
 }
 
 void case_free(sl_case *c)
 {
+    eff_set_free(&c->effects);
     prt_fluid_free(&c->fluid);
     prt_boundary_free(&c->boundary);
     for (size_t i = 0; i < c->nshapes; i++)

@@ -44,7 +44,7 @@ typedef struct sl_case {
     case_controls ctl;
     ts_params ts;              /* system/timeStepDict */
     pcs_params prm;
-    char method[32];
+    eff_set effects;           /* the effects the case names, in the order they act */
     geo_shape *shapes;
     mot_motion *motions;       /* one per shape; type MOT_NONE for static bodies */
     size_t nshapes;

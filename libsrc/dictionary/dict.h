@@ -108,4 +108,15 @@ const char *dict_nearest(const char *key, const char *const *valid);
 /* Levenshtein edit distance between a and b. */
 size_t dict_edit_distance(const char *a, const char *b);
 
+/* ---- stopping on a bad entry ---------------------------------------------
+ * The one error path of every reader of case files: stop the program with
+ *   "<file>:<line>: keyword '<key>': <why>"
+ * (or "<file>: keyword '<key>' (not set: the default): <why>" when the key is
+ * absent).  dict_need() stops with err's message when status is non-zero. */
+void dict_fatal(const dict *d, const char *key, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4), noreturn));
+void dict_need(int status, const sl_err *err);
+/* v if v > 0, else stop: "must be a positive number". */
+double dict_need_positive(const dict *d, const char *key, double v);
+
 #endif

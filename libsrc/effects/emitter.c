@@ -72,3 +72,67 @@ size_t emt_emit(const emt_emitter *e, emt_state *st, double t, double dt, double
     }
     return added;
 }
+
+typedef struct emitters {
+    const emt_emitter *e;
+    size_t n;
+    uint32_t next_id;     /* saved: next_id, then st[0..n) */
+    emt_state *st;
+} emitters;
+
+void *eff_emitter_new(const emt_emitter *e, size_t n, uint32_t next_id)
+{
+    if (n == 0) return NULL;
+    emitters *m = sl_malloc(sizeof *m, "emitters");
+    m->e = e;
+    m->n = n;
+    m->next_id = next_id;
+    m->st = sl_malloc(n * sizeof *m->st, "emitter state");
+    memset(m->st, 0, n * sizeof *m->st);
+    return m;
+}
+
+static void apply(void *state, const eff_view *v)
+{
+    emitters *m = state;
+    for (size_t k = 0; k < m->n; k++)
+        emt_emit(&m->e[k], &m->st[k], v->t, v->dt, v->r0, v->f, &m->next_id);
+}
+
+static void release(void *state)
+{
+    emitters *m = state;
+    if (!m) return;
+    free(m->st);
+    free(m);
+}
+
+static size_t state_size(const void *state)
+{
+    const emitters *m = state;
+    return sizeof m->next_id + m->n * sizeof *m->st;
+}
+
+static void save(const void *state, void *buf)
+{
+    const emitters *m = state;
+    memcpy(buf, &m->next_id, sizeof m->next_id);
+    memcpy((unsigned char *)buf + sizeof m->next_id, m->st, m->n * sizeof *m->st);
+}
+
+static void load(void *state, const void *buf)
+{
+    emitters *m = state;
+    memcpy(&m->next_id, buf, sizeof m->next_id);
+    memcpy(m->st, (const unsigned char *)buf + sizeof m->next_id, m->n * sizeof *m->st);
+}
+
+const eff_type eff_emitter = {
+    .name = "emitter",
+    .stage = EFF_POST_STEP,
+    .apply = apply,
+    .free = release,
+    .state_size = state_size,
+    .save = save,
+    .load = load,
+};

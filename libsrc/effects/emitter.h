@@ -18,6 +18,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "effects/effects.h"
 #include "particles/particles.h"
 
 typedef struct emt_emitter {
@@ -45,5 +46,14 @@ void emt_free(emt_emitter *e);
  * particles were added (ids from *next_id on). */
 size_t emt_emit(const emt_emitter *e, emt_state *st, double t, double dt, double r0,
                 sl_fluid *f, uint32_t *next_id);
+
+/* The emitter effect (post-step: after each accepted step from t to
+ * t + dt, every emitter adds the layers due).  Its saved state is the id
+ * of the next particle and each emitter's emt_state. */
+extern const eff_type eff_emitter;
+
+/* The effect's state for emitters e[0..n) (not copied: they must outlive
+ * the set); ids of emitted particles start at next_id.  NULL if n == 0. */
+void *eff_emitter_new(const emt_emitter *e, size_t n, uint32_t next_id);
 
 #endif

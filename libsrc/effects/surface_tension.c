@@ -2,6 +2,9 @@
 #include "effects/surface_tension.h"
 
 #include <math.h>
+#include <stdlib.h>
+
+#include "core/sl_mem.h"
 
 void st_apply(double kappa, const krn_kernel *kp, sl_fluid *f, const nbr_list *ff)
 {
@@ -25,3 +28,35 @@ void st_apply(double kappa, const krn_kernel *kp, sl_fluid *f, const nbr_list *f
         az[i] -= kappa * sz;
     }
 }
+
+static const char *const keys[] = {"kappa", NULL};
+
+static void *read(const dict *d, const eff_setup *su)
+{
+    sl_err err;
+    double kappa;
+    (void)su;
+    const dict *st = dict_sub(d, "surfaceTension");
+    if (!st) dict_fatal(d, "surfaceTension", "must be a dictionary { kappa ..; }");
+    dict_warn_unknown(st, keys);
+    dict_need(dict_get_scalar(st, "kappa", &kappa, &err), &err);
+    if (!(kappa >= 0.0)) dict_fatal(st, "kappa", "must be zero or positive");
+    if (!(kappa > 0.0)) return NULL;
+    double *p = sl_malloc(sizeof *p, "surface tension");
+    *p = kappa;
+    return p;
+}
+
+static void apply(void *state, const eff_view *v)
+{
+    st_apply(*(const double *)state, &v->k, v->f, v->ff);
+}
+
+const eff_type eff_surface_tension = {
+    .name = "surfaceTension",
+    .keys = keys,
+    .stage = EFF_FORCES,
+    .read = read,
+    .apply = apply,
+    .free = free,
+};

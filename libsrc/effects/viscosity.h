@@ -1,6 +1,6 @@
 /*
  * viscosity: the artificial viscosity of Becker & Teschner 2007 (eq. 11-12
- * there), used by the paper (Sec. 3.4):
+ * there), used by the paper (Sec. 3.4), a forces-stage effect:
  *
  *   a_i += -sum_j m_j Pi_ij grad W_ij,
  *   Pi_ij = -nu_ij (v_ij . x_ij) / (|x_ij|^2 + 0.01 h^2)  if v_ij . x_ij < 0
@@ -10,20 +10,25 @@
  * (we use rho_i + rho_j = 2 rho0, which PCISPH keeps within eta).  Only
  * approaching pairs are damped, so rigid rotation and separation are free.
  * Against boundary particles the same form applies with its own alpha and
- * the boundary velocity (zero for static walls).  A kinematic viscosity nu
- * maps to alpha h c_s = 10 nu (Monaghan 2005, 3D, with h the support radius).
+ * the boundary velocity (zero for static walls).
+ *
+ * constant/fluidProperties:
+ *   viscosity { alpha a; soundSpeed c; [boundaryAlpha ab;] }   alpha h c_s = a h c
+ *   viscosity { nu n; [boundaryNu nb;] }                        alpha h c_s = 10 n
+ * (a kinematic viscosity nu maps to alpha h c_s = 10 nu: Monaghan 2005,
+ * 3D, with h the support radius).
  */
 #ifndef SL_VISCOSITY_H
 #define SL_VISCOSITY_H
 
-#include "kernel/kernel.h"
-#include "neighbours/neighbours.h"
-#include "particles/particles.h"
+#include "effects/effects.h"
 
 typedef struct visc_params {
     double coef;           /* alpha h c_s (m^2/s), fluid-fluid */
     double coef_boundary;  /* alpha_b h c_s, fluid-boundary */
 } visc_params;
+
+extern const eff_type eff_viscosity;
 
 /* Add the viscous acceleration to f->ax, ay, az. */
 void visc_apply(const visc_params *p, const krn_kernel *k, double mass, double rho0,

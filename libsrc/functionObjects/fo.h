@@ -77,13 +77,13 @@ fo_list *fo_select(const sl_case *c, const char *const *names, size_t n);
  * pcs_compute_density); point queries allow for positions that moved up to
  * one cell since the sort and otherwise search all particles (fo_query.h).
  * A write error is a warning, and that object stops writing. */
-void fo_execute(fo_list *l, const pcs_solver *s, double time, long step, int write_time);
+void fo_execute(fo_list *l, const pcs_view *s, double time, long step, int write_time);
 
 /* Open the files of a run starting at `time` without executing anything:
  * for a restart, whose first state was recorded by the previous run (and
  * whose densities and pressures are not computed yet).  No-op after the
  * first fo_execute; NULL-safe. */
-void fo_start(fo_list *l, const pcs_solver *s, double time);
+void fo_start(fo_list *l, const pcs_view *s, double time);
 
 /* Union of FO_NEED_* over the objects of l. */
 unsigned fo_needs(const fo_list *l);

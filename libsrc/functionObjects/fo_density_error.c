@@ -89,14 +89,14 @@ static void *de_read(const dict *d)
     return st;
 }
 
-static void de_header(const void *vs, const pcs_solver *s, FILE *f)
+static void de_header(const void *vs, const pcs_view *s, FILE *f)
 {
     (void)vs;
     fprintf(f, "# Density error of the fluid particles in percent of rho0 = %g kg/m^3\n"
                "# average, maximum, pNN: compression max(rho - rho0, 0) / rho0 (the solver's "
                "measure, as in timeStep.dat); pNN: NN-th percentile\n"
                "# averageSigned, minimumSigned, maximumSigned: signed (rho - rho0) / rho0\n",
-            s->prm.rho0);
+            s->rho0);
 }
 
 static void de_columns(const void *vs, FILE *f)
@@ -118,7 +118,7 @@ static void de_execute(void *vs, const fo_call *call)
 {
     de_state *st = vs;
     const sl_fluid *f = call->s->f;
-    const double rho0 = call->s->prm.rho0, scale = 100.0 / rho0;
+    const double rho0 = call->s->rho0, scale = 100.0 / rho0;
     const size_t n = f->n;
     double max_c = -INFINITY, sum_s = 0.0, min_s = INFINITY, max_s = -INFINITY;
     de_reserve(st, n);
@@ -148,7 +148,7 @@ static void de_execute(void *vs, const fo_call *call)
 static void de_write_histogram(de_state *st, const fo_call *call)
 {
     const sl_fluid *f = call->s->f;
-    const double rho0 = call->s->prm.rho0, scale = 100.0 / rho0;
+    const double rho0 = call->s->rho0, scale = 100.0 / rho0;
     double lo = st->range[0], hi = st->range[1];
     size_t below = 0, above = 0;
     if (!st->fixed_range) {

@@ -29,12 +29,12 @@ static void *en_read(const dict *d)
     return st;
 }
 
-static void en_header(const void *vs, const pcs_solver *s, FILE *f)
+static void en_header(const void *vs, const pcs_view *s, FILE *f)
 {
     const en_state *st = vs;
     fprintf(f, "# Energy of the fluid in J: kinetic sum m v^2/2; potential -sum m g.(x - x_ref), "
                "g = (%g %g %g), x_ref = (%g %g %g); m = %.10g kg\n",
-            s->prm.gravity[0], s->prm.gravity[1], s->prm.gravity[2], st->ref[0], st->ref[1],
+            s->gravity[0], s->gravity[1], s->gravity[2], st->ref[0], st->ref[1],
             st->ref[2], s->mass);
 }
 
@@ -47,9 +47,9 @@ static void en_columns(const void *vs, FILE *f)
 static void en_execute(void *vs, const fo_call *call)
 {
     const en_state *st = vs;
-    const pcs_solver *s = call->s;
+    const pcs_view *s = call->s;
     const sl_fluid *f = s->f;
-    const double *g = s->prm.gravity;
+    const double *g = s->gravity;
     double v2 = 0.0, gx = 0.0;
     for (size_t i = 0; i < f->n; i++) {
         v2 += f->vx[i] * f->vx[i] + f->vy[i] * f->vy[i] + f->vz[i] * f->vz[i];

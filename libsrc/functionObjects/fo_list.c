@@ -240,7 +240,7 @@ fo_list *fo_select(const sl_case *c, const char *const *names, size_t n)
 
 /* ---- executing ---- */
 
-static void open_object(fo_list *l, fo_object *o, const pcs_solver *s)
+static void open_object(fo_list *l, fo_object *o, const pcs_view *s)
 {
     sl_err err;
     size_t len = strlen(l->case_dir) + strlen(o->name) + strlen(l->tname) + 32;
@@ -295,7 +295,7 @@ static void write_row(fo_object *o, const fo_call *call)
     fputc('\n', o->dat);
 }
 
-static void open_all(fo_list *l, const pcs_solver *s, double time)
+static void open_all(fo_list *l, const pcs_view *s, double time)
 {
     tdir_name(time, l->precision, l->tname, sizeof l->tname);
     for (size_t i = 0; i < l->n; i++)
@@ -304,12 +304,12 @@ static void open_all(fo_list *l, const pcs_solver *s, double time)
     l->last_time = time;
 }
 
-void fo_start(fo_list *l, const pcs_solver *s, double time)
+void fo_start(fo_list *l, const pcs_view *s, double time)
 {
     if (l && !l->started) open_all(l, s, time);
 }
 
-void fo_execute(fo_list *l, const pcs_solver *s, double time, long step, int write_time)
+void fo_execute(fo_list *l, const pcs_view *s, double time, long step, int write_time)
 {
     if (!l) return;
     if (!l->started) {

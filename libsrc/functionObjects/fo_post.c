@@ -176,22 +176,21 @@ static void grow_bounds(double lo[3], double hi[3], const double *x, const doubl
 /* The grid (and the boundary -> fluid lists) the point queries use. */
 static void build_grid(fo_snapshot *sn, unsigned needs)
 {
-    pcs_solver *s = &sn->s;
+    const double h = sn->v.h;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     grow_bounds(lo, hi, sn->f.x, sn->f.y, sn->f.z, sn->f.n);
     grow_bounds(lo, hi, sn->b.x, sn->b.y, sn->b.z, sn->b.n);
     for (int d = 0; d < 3; d++) {
         if (!(hi[d] >= lo[d])) lo[d] = hi[d] = 0.0; /* no finite position */
-        lo[d] -= s->h;
-        hi[d] += s->h;
+        lo[d] -= h;
+        hi[d] += h;
     }
-    nbr_grid_init(&s->grid, lo, hi, s->h, 8 * (sn->f.n + sn->b.n) + ((size_t)1 << 20));
-    nbr_sort_boundary(&s->grid, &sn->b);
-    nbr_sort_fluid(&s->grid, &sn->f);
+    nbr_grid_init(&sn->grid, lo, hi, h, 8 * (sn->f.n + sn->b.n) + ((size_t)1 << 20));
+    nbr_sort_boundary(&sn->grid, &sn->b);
+    nbr_sort_fluid(&sn->grid, &sn->f);
     if (needs & FO_NEED_BOUNDARY) {
-        nbr_list_init(&s->bf);
-        s->active = sl_alloc_aligned((sn->b.n + 1) * sizeof *s->active, "active boundary list");
-        nbr_build_bf(&s->grid, &sn->f, &sn->b, &s->bf, s->active, &s->nactive);
+        sn->active = sl_alloc_aligned((sn->b.n + 1) * sizeof *sn->active, "active boundary list");
+        nbr_build_bf(&sn->grid, &sn->f, &sn->b, &sn->bf, sn->active, &sn->nactive);
     }
 }
 
@@ -201,14 +200,18 @@ int fo_snapshot_load(fo_snapshot *sn, const sl_case *c, const char *tname, unsig
     memset(sn, 0, sizeof *sn);
     prt_fluid_init(&sn->f);
     prt_boundary_init(&sn->b);
-    pcs_solver *s = &sn->s;
-    s->prm = c->prm;
-    s->h = 2.0 * c->prm.r0;
-    s->mass = c->prm.rho0 * c->prm.r0 * c->prm.r0 * c->prm.r0; /* as pcs_init */
-    s->eta_abs = c->prm.eta * c->prm.rho0;
-    krn_init(&s->k, s->h);
-    s->f = &sn->f;
-    s->b = &sn->b;
+    nbr_list_init(&sn->bf);
+    pcs_view *v = &sn->v;
+    v->f = &sn->f;
+    v->b = &sn->b;
+    v->grid = &sn->grid;
+    v->bf = &sn->bf;
+    v->r0 = c->prm.r0;
+    v->rho0 = c->prm.rho0;
+    v->gravity = c->prm.gravity;
+    v->h = pcs_support(c->prm.r0);
+    v->mass = pcs_mass(c->prm.rho0, c->prm.r0);
+    krn_init(&v->k, v->h);
     char *path = file_path(c, tname, "fluid.vtu");
     int rc = load_fluid(sn, path, err);
     free(path);
@@ -224,10 +227,9 @@ int fo_snapshot_load(fo_snapshot *sn, const sl_case *c, const char *tname, unsig
 
 void fo_snapshot_free(fo_snapshot *sn)
 {
-    pcs_solver *s = &sn->s;
-    if (s->grid.ncells) nbr_grid_free(&s->grid);
-    nbr_list_free(&s->bf);
-    sl_free_aligned(s->active);
+    if (sn->grid.ncells) nbr_grid_free(&sn->grid);
+    nbr_list_free(&sn->bf);
+    sl_free_aligned(sn->active);
     prt_fluid_free(&sn->f);
     prt_boundary_free(&sn->b);
     memset(sn, 0, sizeof *sn);

@@ -6,7 +6,7 @@
  * times and ranges, "0.5", "0.5:1", ":0.2" (up to), "0.8:" (from), e.g.
  * "0,0.5:1".  Times match a time directory within 1e-9 (1 + |t|).
  *
- * A snapshot is a pcs_solver rebuilt from <case>/<time>/fluid.vtu (and
+ * A snapshot is a state (and its pcs_view) rebuilt from <case>/<time>/fluid.vtu (and
  * boundary.vtu when FO_NEED_BOUNDARY is asked for): rho0, r0, gravity from
  * the case, fluid mass rho0 r0^3 and h = 2 r0 as in pcs_init, the written
  * positions, velocities, pressures and densities, the boundary's written
@@ -32,7 +32,11 @@ int fo_post_times(const char *case_dir, const char *spec, int latest, tdir_list 
 typedef struct fo_snapshot {
     sl_fluid f;
     sl_boundary b;
-    pcs_solver s;
+    nbr_grid grid;
+    nbr_list bf;
+    uint32_t *active;
+    size_t nactive;
+    pcs_view v;           /* what the function objects read */
 } fo_snapshot;
 
 /* Load <case>/<tname>/ into sn (needs: FO_NEED_*).  Returns 0, or nonzero

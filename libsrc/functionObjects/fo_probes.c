@@ -64,7 +64,7 @@ static void *pr_read(const dict *d)
     return st;
 }
 
-static void pr_header(const void *vs, const pcs_solver *s, FILE *f)
+static void pr_header(const void *vs, const pcs_view *s, FILE *f)
 {
     const pr_state *st = vs;
     (void)s;

@@ -12,13 +12,13 @@ typedef struct acc {
     double vw, p, rho, vx, vy, vz;
 } acc;
 
-static inline void add_fluid(acc *a, const pcs_solver *s, size_t j, double x, double y, double z)
+static inline void add_fluid(acc *a, const pcs_view *s, size_t j, double x, double y, double z)
 {
     const sl_fluid *f = s->f;
     double dx = x - f->x[j], dy = y - f->y[j], dz = z - f->z[j];
     double r2 = dx * dx + dy * dy + dz * dz;
     if (!(r2 < s->h * s->h)) return;
-    double rho = f->rho[j] > 0.0 ? f->rho[j] : s->prm.rho0;
+    double rho = f->rho[j] > 0.0 ? f->rho[j] : s->rho0;
     double vw = s->mass / rho * krn_w(&s->k, sqrt(r2));
     a->n++;
     a->vw += vw;
@@ -31,20 +31,20 @@ static inline void add_fluid(acc *a, const pcs_solver *s, size_t j, double x, do
 
 /* Boundary particles without a fluid neighbour at the last search keep
  * stale pressures; they are left out. */
-static inline int boundary_active(const pcs_solver *s, size_t j)
+static inline int boundary_active(const pcs_view *s, size_t j)
 {
-    const nbr_list *l = &s->bf;
+    const nbr_list *l = s->bf;
     return l->n != s->b->n || l->start[j + 1] > l->start[j];
 }
 
-static inline void add_boundary(acc *a, const pcs_solver *s, size_t j, double x, double y,
+static inline void add_boundary(acc *a, const pcs_view *s, size_t j, double x, double y,
                                 double z)
 {
     const sl_boundary *b = s->b;
     double dx = x - b->x[j], dy = y - b->y[j], dz = z - b->z[j];
     double r2 = dx * dx + dy * dy + dz * dz;
     if (!(r2 < s->h * s->h) || !boundary_active(s, j)) return;
-    double rho = b->rho[j] > 0.0 ? b->rho[j] : s->prm.rho0;
+    double rho = b->rho[j] > 0.0 ? b->rho[j] : s->rho0;
     double vw = b->mass[j] / rho * krn_w(&s->k, sqrt(r2));
     a->n++;
     a->vw += vw;
@@ -86,9 +86,9 @@ static int sorted_ok(const nbr_grid *g, const uint32_t *inv, const uint32_t *sta
     return i == n;
 }
 
-void fo_index_update(fo_index *ix, const pcs_solver *s)
+void fo_index_update(fo_index *ix, const pcs_view *s)
 {
-    const nbr_grid *g = &s->grid;
+    const nbr_grid *g = s->grid;
     ix->s = s;
     ix->use_grid = 0;
     if (g->ncells == 0 || !g->rank || !g->fstart || !g->bstart || !s->b) return;
@@ -131,8 +131,8 @@ static void cell_range(const nbr_grid *g, double v, int d, int reach, int *c0, i
 /* The one particle loop: fluid (and boundary) particles within h of x. */
 static void gather(const fo_index *ix, double x, double y, double z, int boundary, acc *a)
 {
-    const pcs_solver *s = ix->s;
-    const nbr_grid *g = &s->grid;
+    const pcs_view *s = ix->s;
+    const nbr_grid *g = s->grid;
     const size_t nb = boundary && s->b ? s->b->n : 0;
     *a = (acc){0};
     if (!ix->use_grid) {

@@ -30,7 +30,7 @@
 #include "solver/pcisph.h"
 
 typedef struct fo_index {
-    const pcs_solver *s;
+    const pcs_view *s;
     int use_grid;            /* the grid describes s->f and s->b (see above) */
     uint32_t *cell_of_rank;  /* inverse of grid.rank, built on first use */
     size_t ncells;
@@ -38,7 +38,7 @@ typedef struct fo_index {
 
 /* Check s's grid against its particles (O(particles + cells)); allocates
  * only the first time (or if the grid grows). */
-void fo_index_update(fo_index *ix, const pcs_solver *s);
+void fo_index_update(fo_index *ix, const pcs_view *s);
 void fo_index_free(fo_index *ix);
 
 typedef struct fo_sample {

@@ -21,7 +21,7 @@
 #include "solver/pcisph.h"
 
 typedef struct fo_call {
-    const pcs_solver *s;
+    const pcs_view *s;
     const fo_index *ix;    /* point queries (checked when an object needing them is due) */
     double time;
     const char *time_name; /* time-folder name of `time` */
@@ -36,7 +36,7 @@ typedef struct fo_type {
     unsigned needs;          /* FO_NEED_* */
     void *(*read)(const dict *d);
     /* '#' lines describing the quantities (not the column line) */
-    void (*header)(const void *st, const pcs_solver *s, FILE *f);
+    void (*header)(const void *st, const pcs_view *s, FILE *f);
     /* "\t<name>" for every value column */
     void (*columns)(const void *st, FILE *f);
     void (*execute)(void *st, const fo_call *call);

@@ -63,7 +63,7 @@ static void *wg_read(const dict *d)
 
 /* The scanned interval: zRange, or the fluid's z extent widened by h (the
  * colour is zero outside it).  Returns 0 when there is nothing to scan. */
-static int wg_range(const wg_state *st, const pcs_solver *s, double *z0, double *z1)
+static int wg_range(const wg_state *st, const pcs_view *s, double *z0, double *z1)
 {
     if (st->have_range) {
         *z0 = st->z0;
@@ -81,7 +81,7 @@ static int wg_range(const wg_state *st, const pcs_solver *s, double *z0, double 
     return hi >= lo;
 }
 
-static void wg_header(const void *vs, const pcs_solver *s, FILE *f)
+static void wg_header(const void *vs, const pcs_view *s, FILE *f)
 {
     const wg_state *st = vs;
     char range[128];
@@ -93,7 +93,7 @@ static void wg_header(const void *vs, const pcs_solver *s, FILE *f)
                "colour sum_j V_j W reaches %g,\n"
                "# sampled at the multiples of r0/4 = %g m from the top down and interpolated "
                "linearly; nan: no fluid on the line\n",
-            range, st->threshold, s->prm.r0 / 4);
+            range, st->threshold, s->r0 / 4);
     for (size_t i = 0; i < st->n; i++)
         fprintf(f, "# Gauge %zu (%.10g %.10g)\n", i, st->xy[2 * i], st->xy[2 * i + 1]);
 }
@@ -108,8 +108,8 @@ static void wg_columns(const void *vs, FILE *f)
  * a post-processing of its written times sample the same points. */
 static double wg_height(const wg_state *st, const fo_index *ix, double x, double y)
 {
-    const pcs_solver *s = ix->s;
-    const double dz = s->prm.r0 / 4, thr = st->threshold;
+    const pcs_view *s = ix->s;
+    const double dz = s->r0 / 4, thr = st->threshold;
     double z0, z1;
     if (!wg_range(st, s, &z0, &z1)) return NAN;
     const double k0 = ceil(z0 / dz), k1 = floor(z1 / dz);

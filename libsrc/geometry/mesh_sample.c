@@ -1,5 +1,6 @@
 /* mesh_sample: boundary particles on a triangle mesh: offset surface,
  * feature lines, Poisson-disk faces (see mesh_sample.h for the method). */
+#include "core/sl_morton.h"
 #include "geometry/mesh_sample.h"
 
 #include "core/sl_mem.h"
@@ -450,17 +451,6 @@ static int cmp_keyed(const void *pa, const void *pb)
     return (a->i > b->i) - (a->i < b->i);
 }
 
-static uint64_t spread21(uint64_t v)
-{
-    v &= 0x1fffff;
-    v = (v | v << 32) & 0x1f00000000ffffull;
-    v = (v | v << 16) & 0x1f0000ff0000ffull;
-    v = (v | v << 8) & 0x100f00f00f00f00full;
-    v = (v | v << 4) & 0x10c30c30c30c30c3ull;
-    v = (v | v << 2) & 0x1249249249249249ull;
-    return v;
-}
-
 /* perm[0..n) = the points x (3 per point) in Z-order inside [lo, hi]:
  * neighbours in space become neighbours in memory, which is what keeps the
  * grid and hierarchy queries below in cache. */
@@ -473,7 +463,7 @@ static void z_order(const double *x, size_t n, const double lo[3], const double 
         for (int d = 0; d < 3; d++) {
             double f = hi[d] > lo[d] ? (x[3 * i + d] - lo[d]) / (hi[d] - lo[d]) : 0.0;
             f = f < 0.0 ? 0.0 : f > 1.0 ? 1.0 : f;
-            key |= spread21((uint64_t)(f * 2097151.0)) << d;
+            key |= sl_morton_spread3((uint64_t)(f * 2097151.0)) << d;
         }
         k[i].key = key;
         k[i].i = i;

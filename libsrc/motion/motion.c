@@ -10,15 +10,10 @@
 
 static void mot_fail(const dict *d, const char *key, const char *why)
 {
-    const dict_entry *e = dict_lookup(d, key);
-    if (e) sl_fatal("%s:%d: keyword '%s': %s", dict_entry_file(e), dict_entry_line(e), key, why);
-    sl_fatal("%s: motion: keyword '%s': %s", dict_file(d), key, why);
+    dict_fatal(d, key, "%s", why);
 }
 
-static void need(int rc, const sl_err *err)
-{
-    if (rc) sl_fatal("%s", err->msg);
-}
+static void need(int rc, const sl_err *err) { dict_need(rc, err); }
 
 static void read_axis(mot_motion *m, const dict *d)
 {

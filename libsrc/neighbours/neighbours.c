@@ -1,4 +1,5 @@
 /* neighbours: grid, Z-order sorting and neighbour lists (see neighbours.h). */
+#include "core/sl_morton.h"
 #include "neighbours/neighbours.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
@@ -12,17 +13,6 @@
 #include <string.h>
 
 /* ---- grid set-up ---- */
-
-static uint64_t spread_bits(uint64_t v)
-{
-    v &= 0x1fffff;
-    v = (v | v << 32) & 0x1f00000000ffffULL;
-    v = (v | v << 16) & 0x1f0000ff0000ffULL;
-    v = (v | v << 8) & 0x100f00f00f00f00fULL;
-    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-    v = (v | v << 2) & 0x1249249249249249ULL;
-    return v;
-}
 
 typedef struct cell_key {
     uint64_t morton;
@@ -68,7 +58,7 @@ void nbr_grid_init(nbr_grid *g, const double lo[3], const double hi[3], double h
         for (int cy = 0; cy < g->nc[1]; cy++) {
             size_t row = (size_t)cy + (size_t)g->nc[1] * (size_t)cz;
             keys[row].linear = (uint32_t)row;
-            keys[row].morton = spread_bits((uint64_t)cy) | spread_bits((uint64_t)cz) << 1;
+            keys[row].morton = sl_morton_spread3((uint64_t)cy) | sl_morton_spread3((uint64_t)cz) << 1;
         }
     qsort(keys, nrows, sizeof *keys, cmp_cell_key);
     g->rank = sl_alloc_aligned(g->ncells * sizeof *g->rank, "grid ranks");

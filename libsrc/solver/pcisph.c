@@ -1,16 +1,36 @@
 /* pcisph: the PCISPH step of Algorithm 2 (see pcisph.h). */
 #include "solver/pcisph.h"
-#include "core/sl_log.h"
-#include "core/sl_mem.h"
-#include "core/sl_reduce.h"
-#include "solver/sph_sums.h"
-#include "effects/surface_tension.h"
-
-static const pcs_boundary_ops boundary_methods[3];
 
 #include <math.h>
 #include <omp.h>
+#include <stdlib.h>
 #include <string.h>
+
+#include "boundary/bnd_methods.h"
+#include "core/sl_log.h"
+#include "core/sl_mem.h"
+#include "core/sl_reduce.h"
+#include "kernel/sph_sums.h"
+
+/* Accumulate the wall-clock time of `body` in s->time.<phase>. */
+#define PHASE(s, phase, body)                                                  \
+    do {                                                                       \
+        const double t0_ = omp_get_wtime();                                    \
+        body;                                                                  \
+        (s)->time.phase += omp_get_wtime() - t0_;                              \
+    } while (0)
+
+void pcs_params_default(pcs_params *p)
+{
+    memset(p, 0, sizeof *p);
+    p->gravity[2] = -9.81;
+    p->eta = 0.01;
+    p->min_iter = 3;
+    p->max_iter = 100;
+    p->epsilon = 1.0;
+    p->method = &ihmsen2010_method;
+    p->restitution = 0.0;
+}
 
 double pcs_delta(const krn_kernel *k, double r0, double mass, double rho0, double dt)
 {
@@ -36,212 +56,62 @@ void pcs_set_dt(pcs_solver *s, double dt)
     s->delta = pcs_delta(&s->k, s->prm.r0, s->mass, s->prm.rho0, dt);
 }
 
-void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b,
-              const double lo[3], const double hi[3], double dt)
+/* ---- the passes of a boundary method, compiled once per method ---- */
+
+typedef double (*wall_density_fn)(const bnd_pass *c, size_t i, double x, double y, double z,
+                                  double rb);
+typedef void (*wall_pressure_fn)(const bnd_pass *c, size_t i, double x, double y, double z,
+                                 double pti, double a[3]);
+
+struct pcs_method_passes {
+    const bnd_method_type *type;
+    double (*predict)(pcs_solver *s); /* eq. (13) and (3); returns the largest compression */
+    void (*pressure)(pcs_solver *s);  /* eq. (6) */
+    void (*density)(pcs_solver *s);   /* density at x(t), for output */
+};
+
+static bnd_pass boundary_pass(const pcs_solver *s)
 {
-    memset(s, 0, sizeof *s);
-    s->prm = *p;
-    s->h = 2.0 * p->r0;
-    s->mass = p->rho0 * p->r0 * p->r0 * p->r0;
-    s->eta_abs = p->eta * p->rho0;
-    s->f = f;
-    s->b = b;
-    krn_init(&s->k, s->h);
-    size_t max_cells = 8 * (f->n + b->n) + ((size_t)1 << 20);
-    nbr_grid_init(&s->grid, lo, hi, s->h, max_cells);
-    nbr_list_init(&s->ff);
-    nbr_list_init(&s->fb);
-    nbr_list_init(&s->bf);
-    nbr_sort_boundary(&s->grid, b);
-    s->cal = bnd_calibrate(&s->k, p->r0, s->mass, p->rho0);
-    bnd_set_mass(&s->grid, &s->k, &s->cal, p->rho0, b);
-    s->active = sl_alloc_aligned((b->n + 1) * sizeof *s->active, "active boundary list");
-    s->bops = &boundary_methods[p->method];
-    s->eff.on[EFF_GRAVITY] = p->gravity[0] != 0.0 || p->gravity[1] != 0.0 || p->gravity[2] != 0.0;
-    s->eff.on[EFF_VISCOSITY] = p->viscosity;
-    s->eff.on[EFF_SURFACE_TENSION] = p->surface_tension;
-    s->eff.on[EFF_SURFACE_DENSITY] = p->surface_density;
-    for (size_t i = 0; i < f->n; i++) f->rho[i] = p->rho0; /* until the first pass */
-    if (p->method == BND_HARADA2007) bnd_wall_table_build(&s->wall, &s->k, p->r0, s->mass, 256);
-    pcs_set_dt(s, dt);
+    return (bnd_pass){s->k, s->fb.start, s->fb.idx, s->b, s->bstate};
 }
 
-void pcs_free(pcs_solver *s)
+static eff_view effect_view(pcs_solver *s, double t, double dt, const double *px,
+                            const double *py, const double *pz)
 {
-    nbr_grid_free(&s->grid);
-    nbr_list_free(&s->ff);
-    nbr_list_free(&s->fb);
-    nbr_list_free(&s->bf);
-    sl_free_aligned(s->active);
-    sl_free_aligned(s->err);
-    sl_free_aligned(s->err_vol);
-    sl_free_aligned(s->wall_d);
-    sl_free_aligned(s->wall_b);
-    sl_free_aligned(s->ap_best);
-    if (s->wall.z) bnd_wall_table_free(&s->wall);
-    memset(s, 0, sizeof *s);
+    return (eff_view){.f = s->f, .b = s->b, .grid = &s->grid, .ff = &s->ff, .fb = &s->fb,
+                      .k = s->k, .h = s->h, .r0 = s->prm.r0, .mass = s->mass,
+                      .rho0 = s->prm.rho0, .gravity = s->prm.gravity, .t = t, .dt = dt,
+                      .px = px, .py = py, .pz = pz,
+                      .wall_density = s->prm.method->wall_density};
 }
 
-static void ensure_scratch(pcs_solver *s)
+/* Before a density pass at positions (px, py, pz): prepare the EFF_DENSITY
+ * effects (counted and timed as every effect). */
+static eff_view density_effects(pcs_solver *s, const double *px, const double *py,
+                                const double *pz)
 {
-    if (s->err_cap < s->f->cap) {
-        sl_free_aligned(s->err);
-        s->err = sl_alloc_aligned(s->f->cap * sizeof *s->err, "density error");
-        if (s->prm.max_iter > s->prm.min_iter) {
-            sl_free_aligned(s->ap_best);
-            s->ap_best = sl_alloc_aligned(3 * s->f->cap * sizeof *s->ap_best, "pressure force");
-        }
-        if (s->prm.method != BND_IHMSEN2010) {
-            sl_free_aligned(s->err_vol);
-            s->err_vol = sl_alloc_aligned(s->f->cap * sizeof *s->err_vol, "density error");
-        }
-        if (s->prm.method == BND_HARADA2007) {
-            sl_free_aligned(s->wall_d);
-            sl_free_aligned(s->wall_b);
-            s->wall_d = sl_alloc_aligned(s->f->cap * sizeof *s->wall_d, "wall distances");
-            s->wall_b = sl_alloc_aligned(s->f->cap * sizeof *s->wall_b, "wall neighbours");
-        }
-        s->err_cap = s->f->cap;
-    }
+    eff_view v = effect_view(s, s->t, s->dt, px, py, pz);
+    eff_run(s->eff, EFF_DENSITY, &v);
+    return v;
 }
 
-/* ---- the phases of Algorithm 2 ---- */
-
-void pcs_find_neighbours(pcs_solver *s)
+/* The EFF_DENSITY corrections of fluid particle i's density. */
+static inline void correct_density(const pcs_solver *s, const eff_view *v, size_t i, double x,
+                                   double y, double z, double rb, double *r, double *rv)
 {
-    double t0 = omp_get_wtime(), t1;
-    nbr_sort_fluid(&s->grid, s->f);
-    t1 = omp_get_wtime(); s->time.sort += t1 - t0; t0 = t1;
-    nbr_build_fluid(&s->grid, s->f, s->b, &s->ff, &s->fb);
-    t1 = omp_get_wtime(); s->time.list_ff += t1 - t0; t0 = t1;
-    nbr_transpose(&s->fb, s->b->n, &s->bf, s->active, &s->nactive);
-    t1 = omp_get_wtime(); s->time.list_bf += t1 - t0;
+    for (size_t q = 0; q < s->ndens; q++)
+        s->dens[q]->type->correct(s->dens[q]->state, v, i, x, y, z, rb, r, rv);
 }
 
-/* Run effect k's body, counting and timing it. */
-#define EFFECT(s, k, body)                                                     \
-    do {                                                                       \
-        double t0_ = omp_get_wtime();                                          \
-        body;                                                                  \
-        (s)->eff.calls[k]++;                                                   \
-        (s)->eff.time[k] += omp_get_wtime() - t0_;                             \
-    } while (0)
-
-/* Non-pressure forces per unit mass (the effects the case named); zero
- * pressure and pressure force. */
-static void compute_forces(pcs_solver *s)
+/* Predicted density and pressure of the active boundary particles (eq. 13
+ * and eq. 3), for the methods whose walls take part in the solve. */
+static void boundary_density(pcs_solver *s)
 {
-    sl_fluid *f = s->f;
-    const double gx = s->prm.gravity[0], gy = s->prm.gravity[1], gz = s->prm.gravity[2];
-    const int g = s->eff.on[EFF_GRAVITY];
-#pragma omp parallel for schedule(static)
-    for (size_t i = 0; i < f->n; i++) {
-        f->ax[i] = g ? gx : 0.0;
-        f->ay[i] = g ? gy : 0.0;
-        f->az[i] = g ? gz : 0.0;
-        f->apx[i] = f->apy[i] = f->apz[i] = 0.0;
-        f->p[i] = 0.0;
-    }
-    if (g) s->eff.calls[EFF_GRAVITY]++;
-    if (s->eff.on[EFF_VISCOSITY])
-        EFFECT(s, EFF_VISCOSITY,
-               visc_apply(&s->prm.visc, &s->k, s->mass, s->prm.rho0, f, s->b, &s->ff, &s->fb));
-    if (s->eff.on[EFF_SURFACE_TENSION])
-        EFFECT(s, EFF_SURFACE_TENSION, st_apply(s->prm.kappa, &s->k, f, &s->ff));
-    const uint32_t *act = s->active;
-    double *pb = s->b->p;
-#pragma omp parallel for schedule(static)
-    for (size_t q = 0; q < s->nactive; q++) pb[act[q]] = 0.0;
-}
-
-static void predict_positions(pcs_solver *s)
-{
-    sl_fluid *f = s->f;
-    const double dt = s->dt;
-#pragma omp parallel for schedule(static)
-    for (size_t i = 0; i < f->n; i++) {
-        double vx = f->vx[i] + dt * (f->ax[i] + f->apx[i]);
-        double vy = f->vy[i] + dt * (f->ay[i] + f->apy[i]);
-        double vz = f->vz[i] + dt * (f->az[i] + f->apz[i]);
-        f->xs[i] = f->x[i] + dt * vx;
-        f->ys[i] = f->y[i] + dt * vy;
-        f->zs[i] = f->z[i] + dt * vz;
-    }
-    s->bops->collide(s, f->xs, f->ys, f->zs, NULL, NULL, NULL);
-}
-
-/* Predicted density of fluid and active boundary particles (eq. 13) and
- * pressure update (eq. 3), for boundary method M (a constant: each method
- * gets its own compiled copy).  Fills s->err with each fluid particle's
- * compression and returns the largest one (absolute units). */
-static inline __attribute__((always_inline)) double density_pass(pcs_solver *s, const bnd_method M,
-                                                                  const int predict)
-{
-    sl_fluid *f = s->f;
-    sl_boundary *b = s->b;
+    const sl_boundary *b = s->b;
     const krn_kernel k = s->k;
     const double m = s->mass, rho0 = s->prm.rho0, delta = s->delta;
-    const double self = m * krn_w(&k, 0.0);
-    const size_t n = f->n;
-    const uint32_t *restrict ffs = s->ff.start, *restrict ffi = s->ff.idx;
-    const uint32_t *restrict fbs = s->fb.start, *restrict fbi = s->fb.idx;
-    /* predict: x*(t + dt) and the pressure update; else x(t), density only */
-    const double *restrict xs = predict ? f->xs : f->x, *restrict ys = predict ? f->ys : f->y,
-                           *restrict zs = predict ? f->zs : f->z;
+    const double *restrict xs = s->f->xs, *restrict ys = s->f->ys, *restrict zs = s->f->zs;
     const double *restrict bx = b->x, *restrict by = b->y, *restrict bz = b->z;
-    const double *restrict bm = b->mass;
-    double *restrict rho = f->rho, *restrict p = f->p, *restrict pt = f->pt;
-    double *restrict err = s->err, *restrict err_vol = s->err_vol;
-    double emax = 0.0;
-    /* the correction reads the densities of the previous pass (a copy, so
-     * that every thread reads the same values) */
-    const int bk = s->eff.on[EFF_SURFACE_DENSITY];
-    double *restrict rho_prev = f->scratch; /* free outside the sort */
-    if (bk) {
-        if (n) memcpy(rho_prev, rho, n * sizeof *rho);
-        s->eff.calls[EFF_SURFACE_DENSITY]++;
-    }
-#pragma omp parallel for schedule(static) reduction(max : emax)
-    for (size_t i = 0; i < n; i++) {
-        const double xi = xs[i], yi = ys[i], zi = zs[i];
-        const double rf = self + m * sph_sum_w(k, ffi, ffs[i], ffs[i + 1], xi, yi, zi, xs, ys, zs);
-        /* eq. (13); for the other methods only measured (vol_avg) */
-        const double rb = (M == BND_IHMSEN2010 || predict)
-                              ? sph_sum_mw(k, fbi, fbs[i], fbs[i + 1], xi, yi, zi, bx, by, bz, bm)
-                              : 0.0;
-        double r = rf;
-        if (M == BND_IHMSEN2010) r += rb;
-        if (M == BND_HARADA2007) { /* wall weight Z(d) [HKK07] */
-            double d = 0.0, z = 0.0, dz = 0.0;
-            uint32_t j = bnd_nearest(&s->fb, b, i, xi, yi, zi, &d);
-            if (j != UINT32_MAX) bnd_wall_lookup(&s->wall, d, &z, &dz);
-            s->wall_b[i] = j;
-            s->wall_d[i] = dz;
-            r += z;
-        }
-        double rv = rf + rb; /* the density with the wall's share, for every method */
-        if (bk) { /* Bonet & Kulasegaram 2002: r / sum_j V_j W_ij where it is < 1 */
-            const double shf = m * (krn_w(&k, 0.0) / rho_prev[i] +
-                                    sph_sum_w_over(k, ffi, ffs[i], ffs[i + 1], xi, yi, zi, xs, ys,
-                                                   zs, rho_prev));
-            const double shv = shf + rb / rho0;
-            const double sh = M == BND_IHMSEN2010 ? shv : shf;
-            if (sh < 1.0 && sh > 0.0) r /= sh;
-            if (shv < 1.0 && shv > 0.0) rv /= shv;
-        }
-        rho[i] = r;
-        if (!predict) continue;
-        if (M != BND_IHMSEN2010) err_vol[i] = rv > rho0 ? rv - rho0 : 0.0;
-        const double e = r - rho0;
-        const double pn = p[i] + delta * e; /* eq. (3) */
-        const double pc = pn > 0.0 ? pn : 0.0;
-        p[i] = pc;
-        pt[i] = pc / (r * r);
-        const double c = e > 0.0 ? e : 0.0;
-        err[i] = c;
-        emax = c > emax ? c : emax;
-    }
-    if (M != BND_IHMSEN2010 || !predict) return emax;
     const uint32_t *restrict act = s->active;
     const uint32_t *restrict bfs = s->bf.start, *restrict bfi = s->bf.idx;
     const double *restrict brs = b->rho_static;
@@ -257,89 +127,371 @@ static inline __attribute__((always_inline)) double density_pass(pcs_solver *s, 
         bp[i] = pc;
         bpt[i] = pc / (r * r);
     }
-    return emax;
 }
 
-/* Pressure force per unit mass, eq. (6), for boundary method M. */
-static inline __attribute__((always_inline)) void pressure_pass(pcs_solver *s, const bnd_method M)
+/* What the per-particle work of a density or pressure pass reads. */
+typedef struct pass_ctx {
+    krn_kernel k;
+    double m, rho0, delta, self;
+    const uint32_t *ffs, *ffi, *fbs, *fbi;
+    const double *x, *y, *z;          /* positions of the pass: x* or x(t) */
+    const double *bx, *by, *bz, *bm;
+    double *rho, *p, *pt, *err, *err_vol;
+    double *apx, *apy, *apz;
+    bnd_pass bp;                      /* what the method's terms read */
+    eff_view dv;                      /* what the EFF_DENSITY effects read */
+    const pcs_solver *s;
+    int corrected;                    /* EFF_DENSITY effects in the set */
+} pass_ctx;
+
+static pass_ctx pass_begin(pcs_solver *s, const double *x, const double *y, const double *z)
+{
+    const sl_fluid *f = s->f;
+    const sl_boundary *b = s->b;
+    pass_ctx c = {.k = s->k, .m = s->mass, .rho0 = s->prm.rho0, .delta = s->delta,
+                  .self = s->mass * krn_w(&s->k, 0.0),
+                  .ffs = s->ff.start, .ffi = s->ff.idx, .fbs = s->fb.start, .fbi = s->fb.idx,
+                  .x = x, .y = y, .z = z, .bx = b->x, .by = b->y, .bz = b->z, .bm = b->mass,
+                  .rho = f->rho, .p = f->p, .pt = f->pt, .err = s->err, .err_vol = s->err_vol,
+                  .apx = f->apx, .apy = f->apy, .apz = f->apz,
+                  .bp = boundary_pass(s), .s = s, .corrected = s->ndens > 0};
+    return c;
+}
+
+/* The same before a density pass: the EFF_DENSITY effects are prepared. */
+static pass_ctx density_pass_begin(pcs_solver *s, const double *x, const double *y,
+                                   const double *z)
+{
+    pass_ctx c = pass_begin(s, x, y, z);
+    c.dv = density_effects(s, x, y, z);
+    return c;
+}
+
+/* Density of fluid particle i at the pass's positions: its fluid
+ * neighbours (and itself), the wall's share as the method takes it
+ * (eq. 13 for ihmsen2010), and the EFF_DENSITY corrections; *rv is the
+ * density with the boundary particles' share, the measure of every method. */
+static inline __attribute__((always_inline)) double
+fluid_density(const pass_ctx *c, size_t i, const int wall_measured,
+              const wall_density_fn wall_term, double *rv)
+{
+    const double xi = c->x[i], yi = c->y[i], zi = c->z[i];
+    const double rf = c->self + c->m * sph_sum_w(c->k, c->ffi, c->ffs[i], c->ffs[i + 1], xi, yi,
+                                                 zi, c->x, c->y, c->z);
+    /* the wall's share: part of the density (eq. 13) or only measured */
+    const double rb = wall_measured ? sph_sum_mw(c->k, c->fbi, c->fbs[i], c->fbs[i + 1], xi, yi,
+                                                 zi, c->bx, c->by, c->bz, c->bm)
+                                    : 0.0;
+    double r = rf + wall_term(&c->bp, i, xi, yi, zi, rb);
+    *rv = rf + rb;
+    if (c->corrected) correct_density(c->s, &c->dv, i, xi, yi, zi, rb, &r, rv);
+    return r;
+}
+
+/* Predicted density of fluid particle i at x* and its pressure update
+ * p += delta rho_err* (eq. 3), clamped at zero; returns its compression. */
+static inline __attribute__((always_inline)) double
+predict_one(const pass_ctx *c, size_t i, const int wall, const wall_density_fn wall_term)
+{
+    double rv;
+    const double r = fluid_density(c, i, 1, wall_term, &rv);
+    c->rho[i] = r;
+    if (!wall) c->err_vol[i] = rv > c->rho0 ? rv - c->rho0 : 0.0;
+    const double e = r - c->rho0;
+    const double pn = c->p[i] + c->delta * e; /* eq. (3) */
+    const double pc = pn > 0.0 ? pn : 0.0;
+    c->p[i] = pc;
+    c->pt[i] = pc / (r * r);
+    const double cmp = e > 0.0 ? e : 0.0;
+    c->err[i] = cmp;
+    return cmp;
+}
+
+/* Pressure force per unit mass on fluid particle i, eq. (6): its fluid
+ * neighbours, then the wall's term of the method. */
+static inline __attribute__((always_inline)) void
+pressure_one(const pass_ctx *c, size_t i, const wall_pressure_fn wall_term)
+{
+    const double xi = c->x[i], yi = c->y[i], zi = c->z[i];
+    double a[3] = {0.0, 0.0, 0.0};
+    sph_sum_pressure(c->k, c->ffi, c->ffs[i], c->ffs[i + 1], xi, yi, zi, c->pt[i], c->x, c->y,
+                     c->z, c->pt, NULL, c->m, a);
+    wall_term(&c->bp, i, xi, yi, zi, c->pt[i], a);
+    c->apx[i] = a[0];
+    c->apy[i] = a[1];
+    c->apz[i] = a[2];
+}
+
+/* The three passes of method M, each with its own parallel loop so that
+ * the method's terms are inlined into it (the parallel region is outlined
+ * per function, before inlining):
+ *   M_predict  predicted density and pressure of the fluid at x* and of
+ *              the active boundary particles (eq. 13, eq. 3); fills
+ *              s->err and returns the largest compression (absolute);
+ *   M_force    the pressure force (eq. 6);
+ *   M_current  the density at x(t), for output (no pressure update). */
+#define PCS_METHOD_PASSES(M)                                                        \
+    static double M##_predict(pcs_solver *s)                                       \
+    {                                                                              \
+        const sl_fluid *f = s->f;                                                  \
+        const pass_ctx c = density_pass_begin(s, f->xs, f->ys, f->zs);             \
+        const size_t n = f->n;                                                     \
+        double emax = 0.0;                                                         \
+        _Pragma("omp parallel for schedule(static) reduction(max : emax)")         \
+        for (size_t i = 0; i < n; i++) {                                           \
+            const double e = predict_one(&c, i, M##_wall_density, M##_density);    \
+            emax = e > emax ? e : emax;                                            \
+        }                                                                          \
+        if (M##_wall_density) boundary_density(s);                                 \
+        return emax;                                                               \
+    }                                                                              \
+    static void M##_force(pcs_solver *s)                                           \
+    {                                                                              \
+        const sl_fluid *f = s->f;                                                  \
+        const pass_ctx c = pass_begin(s, f->xs, f->ys, f->zs);                     \
+        const size_t n = f->n;                                                     \
+        _Pragma("omp parallel for schedule(static)")                               \
+        for (size_t i = 0; i < n; i++) pressure_one(&c, i, M##_pressure);          \
+    }                                                                              \
+    static void M##_current(pcs_solver *s)                                         \
+    {                                                                              \
+        const sl_fluid *f = s->f;                                                  \
+        const pass_ctx c = density_pass_begin(s, f->x, f->y, f->z);                      \
+        const size_t n = f->n;                                                     \
+        double rv;                                                                 \
+        _Pragma("omp parallel for schedule(static) private(rv)")                   \
+        for (size_t i = 0; i < n; i++)                                             \
+            c.rho[i] = fluid_density(&c, i, M##_wall_density, M##_density, &rv);   \
+    }
+BND_METHODS(PCS_METHOD_PASSES)
+#define PCS_METHOD_ENTRY(M) {&M##_method, M##_predict, M##_force, M##_current},
+static const pcs_method_passes method_passes[] = {BND_METHODS(PCS_METHOD_ENTRY)};
+
+double pcs_pass_density(pcs_solver *s) { return s->passes->predict(s); }
+
+void pcs_pass_pressure(pcs_solver *s) { s->passes->pressure(s); }
+
+/* ---- set-up ---- */
+
+void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b,
+              const double lo[3], const double hi[3], double dt, eff_set *effects)
+{
+    memset(s, 0, sizeof *s);
+    s->prm = *p;
+    s->h = pcs_support(p->r0);
+    s->mass = pcs_mass(p->rho0, p->r0);
+    s->eta_abs = p->eta * p->rho0;
+    s->f = f;
+    s->b = b;
+    s->eff = effects;
+    krn_init(&s->k, s->h);
+    size_t max_cells = 8 * (f->n + b->n) + ((size_t)1 << 20);
+    nbr_grid_init(&s->grid, lo, hi, s->h, max_cells);
+    nbr_list_init(&s->ff);
+    nbr_list_init(&s->fb);
+    nbr_list_init(&s->bf);
+    nbr_sort_boundary(&s->grid, b);
+    s->cal = bnd_calibrate(&s->k, p->r0, s->mass, p->rho0);
+    bnd_set_mass(&s->grid, &s->k, &s->cal, p->rho0, b);
+    s->active = sl_alloc_aligned((b->n + 1) * sizeof *s->active, "active boundary list");
+    for (size_t m = 0; m < sizeof method_passes / sizeof *method_passes; m++)
+        if (method_passes[m].type == p->method) s->passes = &method_passes[m];
+    if (!s->passes) sl_fatal("pcs_init: boundary method not in BND_METHODS");
+    s->bsu = (bnd_setup){s->k, p->r0, s->mass, p->rho0, p->epsilon, p->restitution};
+    s->bstate = p->method->init ? p->method->init(&s->bsu) : NULL;
+    if (effects && effects->n) {
+        s->dens = sl_malloc(effects->n * sizeof *s->dens, "density effects");
+        for (size_t q = 0; q < effects->n; q++)
+            if (effects->e[q].type->stage == EFF_DENSITY) s->dens[s->ndens++] = &effects->e[q];
+    }
+    for (size_t i = 0; i < f->n; i++) f->rho[i] = p->rho0; /* until the first pass */
+    pcs_set_dt(s, dt);
+}
+
+void pcs_free(pcs_solver *s)
+{
+    nbr_grid_free(&s->grid);
+    nbr_list_free(&s->ff);
+    nbr_list_free(&s->fb);
+    nbr_list_free(&s->bf);
+    sl_free_aligned(s->active);
+    sl_free_aligned(s->err);
+    sl_free_aligned(s->err_vol);
+    sl_free_aligned(s->ap_best);
+    if (s->prm.method && s->prm.method->free) s->prm.method->free(s->bstate);
+    free(s->dens);
+    memset(s, 0, sizeof *s);
+}
+
+/* Scratch sized for the fluid's capacity (which an emitter grows). */
+static void ensure_scratch(pcs_solver *s)
+{
+    if (s->err_cap < s->f->cap) {
+        sl_free_aligned(s->err);
+        s->err = sl_alloc_aligned(s->f->cap * sizeof *s->err, "density error");
+        if (s->prm.max_iter > s->prm.min_iter) {
+            sl_free_aligned(s->ap_best);
+            s->ap_best = sl_alloc_aligned(3 * s->f->cap * sizeof *s->ap_best, "pressure force");
+        }
+        if (!s->prm.method->wall_density) {
+            sl_free_aligned(s->err_vol);
+            s->err_vol = sl_alloc_aligned(s->f->cap * sizeof *s->err_vol, "density error");
+        }
+        s->err_cap = s->f->cap;
+    }
+    if (s->prm.method->reserve) s->prm.method->reserve(s->bstate, s->f->cap);
+}
+
+/* ---- the phases of Algorithm 2 ---- */
+
+void pcs_place_world(pcs_solver *s, double t)
+{
+    eff_view v = effect_view(s, t, 0.0, NULL, NULL, NULL);
+    eff_run(s->eff, EFF_PRE_STEP, &v);
+}
+
+/* The world at the end of the step (moving bodies at t + dt). */
+static void move_world(pcs_solver *s)
+{
+    eff_view v = effect_view(s, s->t, s->dt, NULL, NULL, NULL);
+    eff_run(s->eff, EFF_PRE_STEP, &v);
+}
+
+void pcs_find_neighbours(pcs_solver *s)
+{
+    PHASE(s, sort, nbr_sort_fluid(&s->grid, s->f));
+    PHASE(s, list_ff, nbr_build_fluid(&s->grid, s->f, s->b, &s->ff, &s->fb));
+    PHASE(s, list_bf, nbr_transpose(&s->fb, s->b->n, &s->bf, s->active, &s->nactive));
+}
+
+/* Non-pressure forces per unit mass (the forces-stage effects the case
+ * named); zero pressure and pressure force of fluid and active boundary. */
+static void compute_forces(pcs_solver *s)
 {
     sl_fluid *f = s->f;
-    const sl_boundary *b = s->b;
-    const krn_kernel k = s->k;
-    const double m = s->mass;
-    const size_t n = f->n;
-    const uint32_t *restrict ffs = s->ff.start, *restrict ffi = s->ff.idx;
-    const uint32_t *restrict fbs = s->fb.start, *restrict fbi = s->fb.idx;
-    const double *restrict xs = f->xs, *restrict ys = f->ys, *restrict zs = f->zs;
-    const double *restrict pt = f->pt, *restrict bpt = b->pt, *restrict bm = b->mass;
-    double *restrict apx = f->apx, *restrict apy = f->apy, *restrict apz = f->apz;
 #pragma omp parallel for schedule(static)
-    for (size_t i = 0; i < n; i++) {
-        const double xi = xs[i], yi = ys[i], zi = zs[i];
-        double a[3] = {0.0, 0.0, 0.0};
-        sph_sum_pressure(k, ffi, ffs[i], ffs[i + 1], xi, yi, zi, pt[i], xs, ys, zs, pt, NULL, m, a);
-        if (M == BND_IHMSEN2010) /* boundary pressures, eq. (6) with eq. (13)'s particles */
-            sph_sum_pressure(k, fbi, fbs[i], fbs[i + 1], xi, yi, zi, pt[i], b->x, b->y, b->z, bpt,
-                             bm, 0.0, a);
-        if (M == BND_HARADA2007 && s->wall_b[i] != UINT32_MAX) {
-            /* wall particles carry the fluid particle's own pressure [HKK07]:
-             * -sum_w m_w 2 p_i / rho_i^2 grad W = -2 p_i / rho_i^2 dZ/dd n */
-            const uint32_t j = s->wall_b[i];
-            const double c = -2.0 * pt[i] * s->wall_d[i];
-            a[0] += c * b->nx[j];
-            a[1] += c * b->ny[j];
-            a[2] += c * b->nz[j];
-        }
-        apx[i] = a[0];
-        apy[i] = a[1];
-        apz[i] = a[2];
+    for (size_t i = 0; i < f->n; i++) {
+        f->ax[i] = f->ay[i] = f->az[i] = 0.0;
+        f->apx[i] = f->apy[i] = f->apz[i] = 0.0;
+        f->p[i] = 0.0;
     }
+    eff_view v = effect_view(s, s->t, s->dt, f->x, f->y, f->z);
+    eff_run(s->eff, EFF_FORCES, &v);
+    const uint32_t *act = s->active;
+    double *pb = s->b->p;
+#pragma omp parallel for schedule(static)
+    for (size_t q = 0; q < s->nactive; q++) pb[act[q]] = 0.0;
 }
 
-static double density_ihmsen(pcs_solver *s, int predict)
+/* World collision of positions (and velocities when vx != NULL). */
+static size_t collide(pcs_solver *s, double *x, double *y, double *z, double *vx, double *vy,
+                      double *vz)
 {
-    return predict ? density_pass(s, BND_IHMSEN2010, 1) : density_pass(s, BND_IHMSEN2010, 0);
-}
-static double density_becker(pcs_solver *s, int predict)
-{
-    return predict ? density_pass(s, BND_BECKER2009, 1) : density_pass(s, BND_BECKER2009, 0);
-}
-static double density_harada(pcs_solver *s, int predict)
-{
-    return predict ? density_pass(s, BND_HARADA2007, 1) : density_pass(s, BND_HARADA2007, 0);
-}
-static void pressure_ihmsen(pcs_solver *s) { pressure_pass(s, BND_IHMSEN2010); }
-static void pressure_becker(pcs_solver *s) { pressure_pass(s, BND_BECKER2009); }
-static void pressure_harada(pcs_solver *s) { pressure_pass(s, BND_HARADA2007); }
-
-static size_t collide_ihmsen(pcs_solver *s, double *x, double *y, double *z, double *vx,
-                             double *vy, double *vz)
-{
-    return bnd_collide(&s->fb, s->b, s->prm.r0, s->prm.epsilon, s->f->n, x, y, z, vx, vy, vz);
-}
-static size_t collide_becker(pcs_solver *s, double *x, double *y, double *z, double *vx,
-                             double *vy, double *vz)
-{
-    return bnd_collide_becker(&s->fb, s->b, s->prm.r0, s->prm.epsilon, s->prm.restitution,
-                              s->f->n, x, y, z, vx, vy, vz);
-}
-static size_t collide_harada(pcs_solver *s, double *x, double *y, double *z, double *vx,
-                             double *vy, double *vz)
-{
-    return bnd_collide_harada(&s->fb, s->b, s->prm.r0, s->prm.epsilon, s->f->n, x, y, z, vx,
-                              vy, vz);
+    return s->prm.method->collide(s->bstate, &s->bsu, &s->fb, s->b, s->f->n, x, y, z, vx, vy, vz);
 }
 
-/* The one place that chooses by boundary method. */
-static const pcs_boundary_ops boundary_methods[3] = {
-    {BND_IHMSEN2010, density_ihmsen, pressure_ihmsen, collide_ihmsen},
-    {BND_BECKER2009, density_becker, pressure_becker, collide_becker},
-    {BND_HARADA2007, density_harada, pressure_harada, collide_harada},
-};
+/* v* = v + dt (F^{v,g,ext} + F^p) / m, x* = x + dt v*; collision (eq. 9-11). */
+static void predict_positions(pcs_solver *s)
+{
+    sl_fluid *f = s->f;
+    const double dt = s->dt;
+#pragma omp parallel for schedule(static)
+    for (size_t i = 0; i < f->n; i++) {
+        double vx = f->vx[i] + dt * (f->ax[i] + f->apx[i]);
+        double vy = f->vy[i] + dt * (f->ay[i] + f->apy[i]);
+        double vz = f->vz[i] + dt * (f->az[i] + f->apz[i]);
+        f->xs[i] = f->x[i] + dt * vx;
+        f->ys[i] = f->y[i] + dt * vy;
+        f->zs[i] = f->z[i] + dt * vz;
+    }
+    collide(s, f->xs, f->ys, f->zs, NULL, NULL, NULL);
+}
 
-double pcs_pass_density(pcs_solver *s) { return s->bops->density(s, 1); }
+/* Iterating to convergence (maxIterations > minIterations), the
+ * correction can overshoot near walls, where the collision keeps the
+ * predicted positions from moving, and the error then grows with every
+ * further iteration.  The guard keeps the pressure force that gave the
+ * smallest error, and a growing error ends the iterations with it. */
+typedef struct pcs_guard {
+    int on;
+    double best;
+} pcs_guard;
 
-void pcs_pass_pressure(pcs_solver *s) { s->bops->pressure(s); }
+/* 1 when this prediction (error emax after k force updates) is worse than
+ * the best so far and the minimum iterations are done: the best force is
+ * back in place and the iterations end. */
+static int guard_stops(pcs_solver *s, pcs_guard *g, double emax, int k)
+{
+    if (!g->on) return 0;
+    sl_fluid *f = s->f;
+    const size_t bytes = f->n * sizeof(double);
+    if (emax < g->best) { /* the force in use gave the best prediction so far */
+        g->best = emax;
+        memcpy(s->ap_best, f->apx, bytes);
+        memcpy(s->ap_best + f->cap, f->apy, bytes);
+        memcpy(s->ap_best + 2 * f->cap, f->apz, bytes);
+        return 0;
+    }
+    if (k < s->prm.min_iter) return 0;
+    memcpy(f->apx, s->ap_best, bytes);
+    memcpy(f->apy, s->ap_best + f->cap, bytes);
+    memcpy(f->apz, s->ap_best + 2 * f->cap, bytes);
+    return 1;
+}
+
+/* Average compression of the fluid (fraction of rho0). */
+static double average_error(const pcs_solver *s, const double *err)
+{
+    const size_t n = s->f->n;
+    const double inv_n = n ? 1.0 / (double)n : 0.0;
+    return sl_sum(err, n) * inv_n / s->prm.rho0;
+}
+
+/* The statistics of the last prediction (err_max: emax). */
+static void solve_stats(const pcs_solver *s, pcs_stats *st, int k, double emax)
+{
+    const size_t n = s->f->n;
+    const double rho0 = s->prm.rho0;
+    st->iterations = k;
+    st->converged = emax <= s->eta_abs;
+    st->err_max = emax / rho0;
+    st->err_avg = average_error(s, s->err);
+    if (s->prm.method->wall_density) {
+        st->vol_avg = st->err_avg;
+        st->vol_max = st->err_max;
+    } else {
+        st->vol_avg = average_error(s, s->err_vol);
+        st->vol_max = n ? sl_max(s->err_vol, n) / rho0 : 0.0;
+    }
+    st->nactive = s->nactive;
+}
+
+/* The loop of Algorithm 2: predict, correct the pressure, until the
+ * largest predicted compression is at most eta (after minIterations, at
+ * most maxIterations). */
+static void pressure_solve(pcs_solver *s, pcs_stats *st)
+{
+    pcs_guard g = {s->prm.max_iter > s->prm.min_iter && s->f->n > 0, HUGE_VAL};
+    double emax;
+    int k = 0;
+    for (;;) {
+        PHASE(s, predict, predict_positions(s));            /* v*, x*; eq. (9)-(11) */
+        PHASE(s, density, emax = s->passes->predict(s));    /* rho*, eq. (13); p, eq. (3) */
+        if (k == 0) {
+            st->err_max_before = emax / s->prm.rho0;
+            st->err_avg_before = average_error(s, s->err);
+        }
+        if (guard_stops(s, &g, emax, k)) {
+            emax = g.best;
+            st->diverging = 1;
+            break;
+        }
+        PHASE(s, pressure, s->passes->pressure(s));          /* F^p, eq. (6) */
+        k++;
+        if (k >= s->prm.max_iter || (k >= s->prm.min_iter && emax <= s->eta_abs)) break;
+    }
+    solve_stats(s, st, k, emax);
+}
 
 /* Euler-Cromer, then the world collision (eq. 11, 12); vmax and fmax. */
 static void integrate(pcs_solver *s, pcs_stats *st)
@@ -359,7 +511,7 @@ static void integrate(pcs_solver *s, pcs_stats *st)
         f->y[i] += dt * f->vy[i];
         f->z[i] += dt * f->vz[i];
     }
-    st->ncollide = s->bops->collide(s, f->x, f->y, f->z, f->vx, f->vy, f->vz);
+    st->ncollide = collide(s, f->x, f->y, f->z, f->vx, f->vy, f->vz);
 #pragma omp parallel for schedule(static) reduction(max : v2max)
     for (size_t i = 0; i < f->n; i++) {
         double v2 = f->vx[i] * f->vx[i] + f->vy[i] * f->vy[i] + f->vz[i] * f->vz[i];
@@ -369,101 +521,35 @@ static void integrate(pcs_solver *s, pcs_stats *st)
     st->fmax = sqrt(f2max);
 }
 
-void pcs_set_motions(pcs_solver *s, const mot_motion *motions, size_t nbodies)
-{
-    s->motions = motions;
-    s->nbodies = nbodies;
-    s->eff.on[EFF_MOVING_BOUNDARY] = 0;
-    for (size_t k = 0; k < nbodies; k++)
-        if (motions[k].type != MOT_NONE) s->eff.on[EFF_MOVING_BOUNDARY] = 1;
-}
-
-void pcs_move_boundaries(pcs_solver *s, double t)
-{
-    if (!s->eff.on[EFF_MOVING_BOUNDARY]) return;
-    EFFECT(s, EFF_MOVING_BOUNDARY, {
-        for (size_t k = 0; k < s->nbodies; k++)
-            if (s->motions[k].type != MOT_NONE) mot_apply(&s->motions[k], (uint32_t)k, t, s->b);
-        nbr_sort_boundary(&s->grid, s->b);
-    });
-}
-
+/* One step of Algorithm 2 from t to t + dt. */
 void pcs_step(pcs_solver *s, pcs_stats *st)
 {
-    sl_fluid *f = s->f;
-    const double rho0 = s->prm.rho0;
-    const double inv_n = f->n ? 1.0 / (double)f->n : 0.0;
-    double t0 = omp_get_wtime(), t1;
     memset(st, 0, sizeof *st);
     ensure_scratch(s);
-    pcs_move_boundaries(s, s->t + s->dt); /* walls where they are at the end of the step */
-
-    pcs_find_neighbours(s);
-    t1 = omp_get_wtime(); s->time.search += t1 - t0; t0 = t1;
-    compute_forces(s);
-    t1 = omp_get_wtime(); s->time.forces += t1 - t0; t0 = t1;
-
-    int k = 0;
-    double emax;
-    /* Iterating to convergence (maxIterations > minIterations), the
-     * correction can overshoot near walls, where the collision keeps the
-     * predicted positions from moving, and the error then grows with every
-     * further iteration.  The pressure force that gave the smallest error
-     * is kept, and a growing error ends the iterations with it. */
-    const int guard = s->prm.max_iter > s->prm.min_iter && f->n > 0;
-    double best = HUGE_VAL;
-    for (;;) {
-        predict_positions(s);
-        t1 = omp_get_wtime(); s->time.predict += t1 - t0; t0 = t1;
-        emax = pcs_pass_density(s);
-        if (k == 0) {
-            st->err_max_before = emax / rho0;
-            st->err_avg_before = sl_sum(s->err, f->n) * inv_n / rho0;
-        }
-        t1 = omp_get_wtime(); s->time.density += t1 - t0; t0 = t1;
-        if (guard) {
-            const size_t bytes = f->n * sizeof(double);
-            if (emax < best) { /* the force in use gave the best prediction so far */
-                best = emax;
-                memcpy(s->ap_best, f->apx, bytes);
-                memcpy(s->ap_best + f->cap, f->apy, bytes);
-                memcpy(s->ap_best + 2 * f->cap, f->apz, bytes);
-            } else if (k >= s->prm.min_iter) {
-                memcpy(f->apx, s->ap_best, bytes);
-                memcpy(f->apy, s->ap_best + f->cap, bytes);
-                memcpy(f->apz, s->ap_best + 2 * f->cap, bytes);
-                emax = best;
-                st->diverging = 1;
-                break;
-            }
-        }
-        pcs_pass_pressure(s);
-        t1 = omp_get_wtime(); s->time.pressure += t1 - t0; t0 = t1;
-        k++;
-        if (k >= s->prm.max_iter) break;
-        if (k >= s->prm.min_iter && emax <= s->eta_abs) break;
-    }
-    st->iterations = k;
-    st->converged = emax <= s->eta_abs;
-    st->err_max = emax / rho0;
-    st->err_avg = sl_sum(s->err, f->n) * inv_n / rho0;
-    if (s->prm.method == BND_IHMSEN2010) {
-        st->vol_avg = st->err_avg;
-        st->vol_max = st->err_max;
-    } else {
-        st->vol_avg = sl_sum(s->err_vol, f->n) * inv_n / rho0;
-        st->vol_max = f->n ? sl_max(s->err_vol, f->n) / rho0 : 0.0;
-    }
-    st->nactive = s->nactive;
-
-    integrate(s, st);
-    t1 = omp_get_wtime(); s->time.integrate += t1 - t0;
+    PHASE(s, world, move_world(s));              /* moving bodies at t + dt */
+    PHASE(s, search, pcs_find_neighbours(s));    /* neighbours N_i(t), fluid and boundary */
+    PHASE(s, forces, compute_forces(s));         /* F^{v,g,ext}; p = 0, F^p = 0 */
+    pressure_solve(s, st);                       /* until rho_err* <= eta: eq. (3)-(13) */
+    PHASE(s, integrate, integrate(s, st));       /* v, x (Euler-Cromer); eq. (9)-(12) */
     s->t += s->dt;
+}
+
+void pcs_post_step(pcs_solver *s, double t, double dt)
+{
+    eff_view v = effect_view(s, t, dt, NULL, NULL, NULL);
+    eff_run(s->eff, EFF_POST_STEP, &v);
+}
+
+pcs_view pcs_view_of(const pcs_solver *s)
+{
+    return (pcs_view){.f = s->f, .b = s->b, .grid = &s->grid, .bf = &s->bf, .k = s->k,
+                      .h = s->h, .r0 = s->prm.r0, .mass = s->mass, .rho0 = s->prm.rho0,
+                      .gravity = s->prm.gravity};
 }
 
 void pcs_compute_density(pcs_solver *s)
 {
     ensure_scratch(s);
     pcs_find_neighbours(s);
-    s->bops->density(s, 0);
+    s->passes->density(s);
 }

@@ -22,11 +22,10 @@
 
 #include <stddef.h>
 
+#include "boundary/bnd_method.h"
 #include "boundary/boundary.h"
 #include "effects/effects.h"
-#include "effects/viscosity.h"
 #include "kernel/kernel.h"
-#include "motion/motion.h"
 #include "neighbours/neighbours.h"
 #include "particles/particles.h"
 
@@ -37,14 +36,18 @@ typedef struct pcs_params {
     double eta;           /* tolerated density error, fraction of rho0 (0.01 = 1 %) */
     int min_iter, max_iter;
     double epsilon;       /* eq. (12): tangential velocity kept on contact */
-    bnd_method method;    /* boundary handling (constant/boundaryProperties) */
+    const bnd_method_type *method; /* boundary handling (constant/boundaryProperties) */
     double restitution;   /* becker2009: delta of eq. (7) */
-    int viscosity;        /* effect named by the case */
-    visc_params visc;
-    int surface_tension;  /* effect: Becker & Teschner 2007 cohesion */
-    double kappa;
-    int surface_density;  /* effect: Bonet & Kulasegaram 2002 correction */
 } pcs_params;
+
+/* The compiled defaults (equal to the annotated files of etc/caseDicts;
+ * rho0 and r0, which a case must give, are 0). */
+void pcs_params_default(pcs_params *p);
+
+/* The support radius and the particle mass of a case: h = 2 r0 and
+ * m = rho0 r0^3 (a fluid particle fills its cube of the lattice). */
+static inline double pcs_support(double r0) { return 2.0 * r0; }
+static inline double pcs_mass(double rho0, double r0) { return rho0 * r0 * r0 * r0; }
 
 /* What one step did (logged every step). Errors are fractions of rho0. */
 typedef struct pcs_stats {
@@ -66,29 +69,22 @@ typedef struct pcs_stats {
 
 /* Wall-clock seconds spent in each phase (accumulated). */
 typedef struct pcs_timers {
-    double search, forces, predict, density, pressure, integrate;
+    double world, search, forces, predict, density, pressure, integrate;
     double sort, list_ff, list_bf;   /* parts of search: sorting, fluid rows, boundary rows */
 } pcs_timers;
 
 typedef struct pcs_solver pcs_solver;
-
-/* A boundary method's passes (boundary_methods in pcisph.c, the one place
- * that chooses by method): predicted density with the pressure update,
- * pressure force, and world collision of positions (and velocities when
- * vx != NULL). */
-typedef struct pcs_boundary_ops {
-    bnd_method method;
-    double (*density)(pcs_solver *s, int predict); /* predict 0: rho from x(t) only */
-    void (*pressure)(pcs_solver *s);
-    size_t (*collide)(pcs_solver *s, double *x, double *y, double *z, double *vx, double *vy,
-                      double *vz);
-} pcs_boundary_ops;
+/* A boundary method's passes, compiled for it (pcisph.c). */
+typedef struct pcs_method_passes pcs_method_passes;
 
 struct pcs_solver {
     pcs_params prm;
     double h, mass, dt, beta, delta, eta_abs;
     krn_kernel k;
     bnd_calibration cal;
+    bnd_setup bsu;         /* what the boundary method was set up with */
+    void *bstate;          /* the boundary method's own state */
+    const pcs_method_passes *passes;
     sl_fluid *f;
     sl_boundary *b;
     nbr_grid grid;
@@ -96,38 +92,50 @@ struct pcs_solver {
     uint32_t *active;
     size_t nactive;
     double *err;           /* per-fluid-particle compression (scratch) */
-    double *err_vol;       /* becker2009, harada2007: the same with the wall's density */
+    double *err_vol;       /* methods without wall density: the same with the wall's share */
     size_t err_cap;
-    const pcs_boundary_ops *bops;
-    bnd_wall_table wall;   /* harada2007 */
-    double *wall_d;        /* harada2007: distance to the nearest boundary plane */
-    uint32_t *wall_b;      /* harada2007: nearest boundary particle */
     double *ap_best;       /* pressure force of the best iteration (3 x cap) */
     pcs_timers time;
-    eff_list eff;          /* the effects in use, their calls and times */
-    const mot_motion *motions; /* per body (pcs_set_motions) */
-    size_t nbodies;
+    eff_set *eff;          /* the case's effects (not owned; may be NULL) */
+    eff_instance **dens;   /* its EFF_DENSITY effects */
+    size_t ndens;
     double t;              /* time of the state (set by the caller before a step) */
 };
+
+/* What function objects and post-processing read of the state (a view:
+ * nothing is copied, nothing may be changed through it). */
+typedef struct pcs_view {
+    const sl_fluid *f;
+    const sl_boundary *b;
+    const nbr_grid *grid;     /* f and b as sorted at the last neighbour search */
+    const nbr_list *bf;       /* boundary -> fluid rows of that search (active boundary) */
+    krn_kernel k;
+    double h, r0, mass, rho0;
+    const double *gravity;
+} pcs_view;
+
+/* The view of s's state. */
+pcs_view pcs_view_of(const pcs_solver *s);
 
 /* delta of eq. (4) for a prototype particle with a filled neighbourhood
  * on a cubic lattice of spacing r0, with beta of eq. (5). */
 double pcs_delta(const krn_kernel *k, double r0, double mass, double rho0, double dt);
 
 /* Set up: grid over [lo, hi], boundary sorted and its masses set,
- * fluid sorted, delta for dt.  The solver keeps pointers to f and b. */
+ * fluid sorted, delta for dt.  The solver keeps pointers to f, b and the
+ * effects (NULL: none, not even gravity; see effects/gravity.h). */
 void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b,
-              const double lo[3], const double hi[3], double dt);
+              const double lo[3], const double hi[3], double dt, eff_set *effects);
 void pcs_free(pcs_solver *s);
 /* Change the time step; recomputes beta and delta (eq. 4, 5). */
 void pcs_set_dt(pcs_solver *s, double dt);
-/* Bodies with a prescribed motion (motions[body], MOT_NONE for static
- * ones); turns the movingBoundary effect on when any body moves. */
-void pcs_set_motions(pcs_solver *s, const mot_motion *motions, size_t nbodies);
-/* Put the moving bodies where they are at time t (and re-sort them). */
-void pcs_move_boundaries(pcs_solver *s, double t);
+/* The world at time t: run the pre-step effects (moving bodies) for t. */
+void pcs_place_world(pcs_solver *s, double t);
 /* Advance by s->dt from time s->t (s->t is advanced too). */
 void pcs_step(pcs_solver *s, pcs_stats *st);
+/* After a step from t to t + dt was accepted: the post-step effects
+ * (emitters). */
+void pcs_post_step(pcs_solver *s, double t, double dt);
 /* The phases of a step, public for benchmarks: sort and build the
  * neighbour lists; one predicted-density + pressure-update pass (returns
  * the largest compression); one pressure-force pass. */

@@ -210,17 +210,11 @@ int ts_validate(const ts_params *p, double eta_avg, sl_err *err)
 
 /* ---- reading ---- */
 
-static void need(int status, const sl_err *err)
-{
-    if (status) sl_fatal("%s", err->msg);
-}
+static void need(int status, const sl_err *err) { dict_need(status, err); }
 
 static void bad_value(const dict *d, const char *key, const char *why)
 {
-    const dict_entry *e = dict_lookup(d, key);
-    if (e)
-        sl_fatal("%s:%d: keyword '%s': %s", dict_entry_file(e), dict_entry_line(e), key, why);
-    sl_fatal("%s: keyword '%s' (not set: the default): %s", dict_file(d), key, why);
+    dict_fatal(d, key, "%s", why);
 }
 
 void ts_read(const dict *d, ts_params *p)

@@ -10,6 +10,7 @@
 #include <math.h>
 
 #include "boundary/boundary.h"
+#include "boundary/ihmsen2010.h"
 #include "core/sl_log.h"
 #include "geometry/geometry.h"
 #include "solver/pcisph.h"
@@ -28,8 +29,12 @@ typedef struct scene {
 /* A closed tank 0.4 x 0.4 x 0.4 half filled, no gravity. */
 static void make_scene(scene *w)
 {
-    pcs_params p = {.rho0 = RHO0, .r0 = R0, .gravity = {0, 0, 0}, .eta = 0.01,
-                    .min_iter = 3, .max_iter = 3, .epsilon = 1.0};
+    pcs_params p;
+    pcs_params_default(&p);
+    p.rho0 = RHO0;
+    p.r0 = R0;
+    p.gravity[2] = 0.0;
+    p.max_iter = 3;
     double lo[3] = {0, 0, 0}, hi[3] = {0.4, 0.4, 0.4}, v[3] = {0, 0, 0};
     double flo[3] = {0, 0, 0}, fhi[3] = {0.4, 0.4, 0.2};
     double glo[3] = {-0.1, -0.1, -0.1}, ghi[3] = {0.5, 0.5, 0.5};
@@ -40,7 +45,7 @@ static void make_scene(scene *w)
     prt_boundary_init(&w->b);
     geo_sample(&w->tank, R0, 0, &w->b);
     geo_fill_box(flo, fhi, R0, v, &w->tank, 1, &w->f);
-    pcs_init(&w->s, &p, &w->f, &w->b, glo, ghi, 1e-3);
+    pcs_init(&w->s, &p, &w->f, &w->b, glo, ghi, 1e-3, NULL);
 }
 
 static void free_scene(scene *w)

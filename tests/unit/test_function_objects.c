@@ -599,6 +599,7 @@ typedef struct world {
     sl_fluid f;
     sl_boundary b;
     pcs_solver s;
+    pcs_view v;           /* what the function objects read */
 } world;
 
 static double urand(void) { return (double)rand() / ((double)RAND_MAX + 1.0); }
@@ -641,6 +642,7 @@ static void world_make(world *w, int nx, int ny, int nz)
     nbr_list_init(&s->bf);
     s->active = sl_alloc_aligned((w->b.n + 1) * sizeof *s->active, "active");
     nbr_build_bf(&s->grid, &w->f, &w->b, &s->bf, s->active, &s->nactive);
+    w->v = pcs_view_of(s);
 }
 
 static void world_free(world *w)
@@ -679,7 +681,7 @@ static void test_fo_query_grid(void **state)
     fo_index ix = {0};
     srand(7);
     world_make(&w, 10, 10, 6);
-    fo_index_update(&ix, &w.s);
+    fo_index_update(&ix, &w.v);
     assert_true(ix.use_grid);
     compare_queries(&ix, 400);
     /* far away: nothing within h */
@@ -695,23 +697,23 @@ static void test_fo_query_grid(void **state)
         w.f.x[i] += 0.9 * w.s.grid.cell * (2 * urand() - 1);
         w.f.z[i] += 0.9 * w.s.grid.cell * (2 * urand() - 1);
     }
-    fo_index_update(&ix, &w.s);
+    fo_index_update(&ix, &w.v);
     assert_true(ix.use_grid);
     compare_queries(&ix, 400);
     /* one particle jumped three cells: the grid no longer describes it */
     w.f.x[3] += 3 * w.s.grid.cell;
-    fo_index_update(&ix, &w.s);
+    fo_index_update(&ix, &w.v);
     assert_false(ix.use_grid);
     w.f.x[3] -= 3 * w.s.grid.cell;
     /* particles in another order (a restored state): detected */
     double t = w.f.x[0];
     w.f.x[0] = w.f.x[w.f.n - 1];
     w.f.x[w.f.n - 1] = t;
-    fo_index_update(&ix, &w.s);
+    fo_index_update(&ix, &w.v);
     assert_false(ix.use_grid);
     /* a particle more than the grid knows */
     w.f.n--;
-    fo_index_update(&ix, &w.s);
+    fo_index_update(&ix, &w.v);
     assert_false(ix.use_grid);
     fo_index_free(&ix);
     world_free(&w);
@@ -767,7 +769,7 @@ static void test_fo_rows(void **state)
     const double times[] = {0, 1, 2, 3, 4, 3, 4, 5, 6};
     const long steps[] = {0, 1, 2, 3, 4, 3, 4, 5, 6};
     for (size_t k = 0; k < sizeof times / sizeof *times; k++)
-        fo_execute(l, &w.s, times[k], steps[k], (long)times[k] % 2 == 0);
+        fo_execute(l, &w.v, times[k], steps[k], (long)times[k] % 2 == 0);
     fo_free(l);
     dat e, wt, de;
     dat_read(OUT "/rows/postProcessing/e/0/energy.dat", &e);
@@ -795,8 +797,8 @@ static void test_fo_rows(void **state)
     dat_free(&de);
     /* a restart at t = 6: a new folder, and no row for the start */
     l = list_from("functions { e { type energy; } }", OUT "/rows");
-    fo_start(l, &w.s, 6);
-    fo_execute(l, &w.s, 7, 7, 0);
+    fo_start(l, &w.v, 6);
+    fo_execute(l, &w.v, 7, 7, 0);
     fo_free(l);
     dat_read(OUT "/rows/postProcessing/e/6/energy.dat", &e);
     assert_int_equal(e.nrows, 1);

@@ -19,7 +19,6 @@
 #include "solver/pcisph.h"
 #include "solver/pcs_snapshot.h"
 #include "timestep/timestep.h"
-#include "effects/emitter.h"
 
 #include <math.h>
 #include <omp.h>
@@ -35,14 +34,12 @@ typedef struct run {
     case_output out;
     case_record rec;
     ts_state ctl;
-    emt_state *emit;           /* per emitter */
-    uint32_t next_id;          /* id of the next emitted particle */
     pcs_snapshot back[2];      /* state at the start of the last two steps */
     pcs_snapshot wsnap;        /* state written with each time directory (reused) */
     ts_state ctl_back[2];
-    emt_state *emit_back[2];
-    uint32_t next_id_back[2];
-    unsigned char *blob;       /* controller + emitter state for restart files */
+    unsigned char *eff_back[2]; /* the effects' saved state, likewise */
+    size_t eff_size;
+    unsigned char *blob;       /* controller + effects' state for restart files */
     size_t blob_size;
     int nback;                 /* how many of back[] are valid */
     double t, t_end, next_write, last_write;
@@ -88,7 +85,7 @@ static void print_world(const run *r, const char *dt_rule)
     sl_info("Case %s", c->dir);
     sl_info("  fluid particles     %zu", c->fluid.n);
     sl_info("  boundary particles  %zu (%zu shapes, method %s)", c->boundary.n, c->nshapes,
-            c->method);
+            c->prm.method->name);
     sl_info("  particle spacing r0 %g m, support radius h %g m", c->prm.r0, s->h);
     sl_info("  particle mass       %g kg (rho0 r0^3), rho0 %g kg/m^3", s->mass, c->prm.rho0);
     sl_info("  boundary mass       gamma %.6f (Akinci volume x gamma), static density factor %.6f",
@@ -100,10 +97,9 @@ static void print_world(const run *r, const char *dt_rule)
             c->prm.max_iter);
     char list[512] = "";
     size_t off = 0;
-    for (int k = 0; k < EFF_COUNT; k++)
-        if (s->eff.on[k] && off < sizeof list)
-            off += (size_t)snprintf(list + off, sizeof list - off, "%s%s", off ? ", " : "",
-                                    eff_name((eff_kind)k));
+    for (size_t k = 0; k < c->effects.n && off < sizeof list; k++)
+        off += (size_t)snprintf(list + off, sizeof list - off, "%s%s", off ? ", " : "",
+                                c->effects.e[k].type->name);
     sl_info("  effects             %s", off ? list : "none");
     sl_info("  threads             %d", omp_get_max_threads());
 }
@@ -122,19 +118,17 @@ static void progress(const run *r)
 }
 
 /* The run's state besides the particles, as one block for restart files:
- * the controller, the next particle id, the emitters. */
+ * the controller, then the effects' saved state (emitters). */
 static void blob_pack(run *r)
 {
     memcpy(r->blob, &r->ctl, sizeof r->ctl);
-    memcpy(r->blob + sizeof r->ctl, &r->next_id, sizeof r->next_id);
-    memcpy(r->blob + sizeof r->ctl + sizeof r->next_id, r->emit, r->c.nemitters * sizeof *r->emit);
+    eff_save(&r->c.effects, r->blob + sizeof r->ctl);
 }
 
 static void blob_unpack(run *r)
 {
     memcpy(&r->ctl, r->blob, sizeof r->ctl);
-    memcpy(&r->next_id, r->blob + sizeof r->ctl, sizeof r->next_id);
-    memcpy(r->emit, r->blob + sizeof r->ctl + sizeof r->next_id, r->c.nemitters * sizeof *r->emit);
+    eff_load(&r->c.effects, r->blob + sizeof r->ctl);
 }
 
 /* Write time directory r->t (density recomputed from x(t), restart file
@@ -273,8 +267,7 @@ static void remember(run *r)
     const int k = r->nback % 2;
     snap_take(&r->back[k], r->s.f, r->t, r->s.dt, r->step);
     r->ctl_back[k] = r->ctl;
-    memcpy(r->emit_back[k], r->emit, r->c.nemitters * sizeof *r->emit);
-    r->next_id_back[k] = r->next_id;
+    eff_save(&r->c.effects, r->eff_back[k]);
     r->nback++;
 }
 
@@ -284,8 +277,7 @@ static void roll_back(run *r)
     int k = r->nback >= 2 ? (r->nback - 2) % 2 : 0;
     snap_restore(&r->back[k], r->s.f);
     ts_rollback(&r->ctl, &r->ctl_back[k]);
-    memcpy(r->emit, r->emit_back[k], r->c.nemitters * sizeof *r->emit);
-    r->next_id = r->next_id_back[k];
+    eff_load(&r->c.effects, r->eff_back[k]);
     r->t = r->back[k].time;
     r->step = r->back[k].step;
     r->nback = 0; /* the history restarts from here */
@@ -354,14 +346,7 @@ static void advance(run *r)
         pcs_set_dt(&r->s, r->ctl.dt);
         return;
     }
-    if (r->c.nemitters) {
-        double t0 = omp_get_wtime();
-        for (size_t e = 0; e < r->c.nemitters; e++)
-            emt_emit(&r->c.emitters[e], &r->emit[e], r->t - step, step, r->c.prm.r0, r->s.f,
-                     &r->next_id);
-        r->s.eff.calls[EFF_EMITTER]++;
-        r->s.eff.time[EFF_EMITTER] += omp_get_wtime() - t0;
-    }
+    pcs_post_step(&r->s, r->t - step, step);
     if (r->s.f->n) r->active_ratio += (double)st.nactive / (double)r->s.f->n;
     if (st.err_avg > r->max_err_avg) r->max_err_avg = st.err_avg;
     if (st.err_max > r->max_err_max) r->max_err_max = st.err_max;
@@ -392,7 +377,8 @@ static void summary(const run *r)
     const pcs_timers *tm = &r->s.time;
     const ts_counts *n = &r->ctl.count;
     double wall = omp_get_wtime() - r->wall0;
-    double phases = tm->search + tm->forces + tm->predict + tm->density + tm->pressure + tm->integrate;
+    double phases = tm->world + tm->search + tm->forces + tm->predict + tm->density + tm->pressure +
+                    tm->integrate;
     long steps = n->steps;
     sl_info("End: %ld steps (%ld shocks, %ld increases, %ld decreases), %.2f s wall, "
             "mean iterations %.2f, max rho_err avg %.3f%% max %.3f%%",
@@ -403,16 +389,16 @@ static void summary(const run *r)
         sl_info("  %ld steps stopped at maxIterations with rho_err max above eta", r->unconverged);
     sl_info("  deltaT min %.4g s, max %.4g s; active boundary particles per fluid particle %.1f %%",
             n->dt_min, n->dt_max, steps ? 100 * r->active_ratio / (double)(steps - n->shock) : 0.0);
-    sl_info("  phases: search %.2f s, forces %.2f s, predict+collision %.2f s, density %.2f s, "
-            "pressure force %.2f s, integrate %.2f s, output+other %.2f s",
-            tm->search, tm->forces, tm->predict, tm->density, tm->pressure, tm->integrate,
-            wall - phases);
+    sl_info("  phases: moving world %.2f s, search %.2f s, forces %.2f s, predict+collision %.2f s, "
+            "density %.2f s, pressure force %.2f s, integrate %.2f s, output+other %.2f s",
+            tm->world, tm->search, tm->forces, tm->predict, tm->density, tm->pressure,
+            tm->integrate, wall - phases);
     sl_info("  search: sort %.2f s, fluid lists %.2f s, boundary lists %.2f s", tm->sort,
             tm->list_ff, tm->list_bf);
-    for (int k = 0; k < EFF_COUNT; k++)
-        if (r->s.eff.on[k] || r->s.eff.calls[k])
-            sl_info("  effect %-24s %8ld calls %8.2f s", eff_name((eff_kind)k), r->s.eff.calls[k],
-                    r->s.eff.time[k]);
+    for (size_t k = 0; k < r->c.effects.n; k++) {
+        const eff_instance *e = &r->c.effects.e[k];
+        sl_info("  effect %-24s %8ld calls %8.2f s", e->type->name, e->calls, e->time);
+    }
     sl_info("  %.3g particle-steps/s (%d threads)",
             wall > 0 ? (double)r->c.fluid.n * (double)steps / wall : 0.0, omp_get_max_threads());
 }
@@ -437,35 +423,33 @@ int main(int argc, char **argv)
     snap_init(&r.back[0]);
     snap_init(&r.back[1]);
     snap_init(&r.wsnap);
-    r.emit = calloc(r.c.nemitters + 1, sizeof *r.emit);
-    r.emit_back[0] = calloc(r.c.nemitters + 1, sizeof *r.emit);
-    r.emit_back[1] = calloc(r.c.nemitters + 1, sizeof *r.emit);
-    r.blob_size = sizeof r.ctl + sizeof r.next_id + r.c.nemitters * sizeof *r.emit;
+    r.eff_size = eff_state_size(&r.c.effects);
+    r.eff_back[0] = calloc(1, r.eff_size + 1);
+    r.eff_back[1] = calloc(1, r.eff_size + 1);
+    r.blob_size = sizeof r.ctl + r.eff_size;
     r.blob = calloc(1, r.blob_size);
-    if (!r.emit || !r.emit_back[0] || !r.emit_back[1] || !r.blob) sl_fatal("out of memory");
-    r.next_id = (uint32_t)r.c.fluid.n;
+    if (!r.eff_back[0] || !r.eff_back[1] || !r.blob) sl_fatal("out of memory");
     char rule[256] = "restart";
     r.t = r.c.ctl.start_time;
     int restarted = r.c.ctl.start_from == CASE_LATEST_TIME && restart_from_latest(&r);
     if (!restarted) ts_init(&r.ctl, initial_step(&r, rule, sizeof rule));
-    pcs_init(&r.s, &r.c.prm, &r.c.fluid, &r.c.boundary, r.c.lo, r.c.hi, r.ctl.dt);
-    pcs_set_motions(&r.s, r.c.motions, r.c.nshapes);
-    r.s.eff.on[EFF_EMITTER] = r.c.nemitters > 0;
-    pcs_move_boundaries(&r.s, r.t);
+    pcs_init(&r.s, &r.c.prm, &r.c.fluid, &r.c.boundary, r.c.lo, r.c.hi, r.ctl.dt, &r.c.effects);
+    pcs_place_world(&r.s, r.t);
     print_world(&r, rule);
     r.t_end = r.c.ctl.end_time;
     r.wall0 = omp_get_wtime();
     out_init(&r.out, &r.c, r.t);
     rec_open(&r.rec, &r.c, r.t);
     if (!restarted) write_time(&r);
-    if (restarted) fo_start(fo, &r.s, r.t); /* its state was recorded by the last run */
-    else fo_execute(fo, &r.s, r.t, r.step, 1);
+    const pcs_view view = pcs_view_of(&r.s); /* what the function objects read */
+    if (restarted) fo_start(fo, &view, r.t); /* its state was recorded by the last run */
+    else fo_execute(fo, &view, r.t, r.step, 1);
     r.last_write = r.t;
     r.next_write = next_write_after(&r, r.t);
     while (r.t < r.t_end - 1e-9 * r.ctl.dt) {
         advance(&r);
         poll_write_requests(&r);
-        fo_execute(fo, &r.s, r.t, r.step, r.last_write == r.t);
+        fo_execute(fo, &view, r.t, r.step, r.last_write == r.t);
         progress(&r);
         if (stop_requested) {
             if (r.last_write != r.t) write_time(&r);
@@ -480,9 +464,8 @@ int main(int argc, char **argv)
     snap_free(&r.back[0]);
     snap_free(&r.back[1]);
     snap_free(&r.wsnap);
-    free(r.emit);
-    free(r.emit_back[0]);
-    free(r.emit_back[1]);
+    free(r.eff_back[0]);
+    free(r.eff_back[1]);
     free(r.blob);
     fo_free(fo);
     pcs_free(&r.s);

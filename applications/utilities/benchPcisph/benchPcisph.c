@@ -14,6 +14,7 @@
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 #include "geometry/geometry.h"
+#include "effects/gravity.h"
 #include "solver/pcisph.h"
 
 #include <math.h>
@@ -68,13 +69,19 @@ int main(int argc, char **argv)
     pcs_solver s;
     pcs_stats st;
     double lo[3], hi[3];
-    pcs_params p = {.rho0 = 1000, .r0 = r0, .gravity = {0, 0, -9.81}, .eta = 0.01,
-                    .min_iter = a.iterations, .max_iter = a.iterations, .epsilon = 1};
+    pcs_params p;
+    pcs_params_default(&p);
+    p.rho0 = 1000;
+    p.r0 = r0;
+    p.min_iter = p.max_iter = a.iterations;
+    eff_set effects;
+    eff_set_init(&effects);
+    eff_add(&effects, &eff_gravity, eff_gravity_new(p.gravity));
     sl_log_set_quiet(1);
     prt_fluid_init(&f);
     prt_boundary_init(&b);
     build_scene(a.particles, r0, &f, &b, lo, hi);
-    pcs_init(&s, &p, &f, &b, lo, hi, dt);
+    pcs_init(&s, &p, &f, &b, lo, hi, dt, &effects);
     /* let the block start to collapse so the benchmark sees moving fluid */
     for (int k = 0; k < 20; k++) pcs_step(&s, &st);
     memset(&s.time, 0, sizeof s.time);
@@ -110,6 +117,7 @@ int main(int argc, char **argv)
     }
     printf("peak_rss=%zu\n", sl_mem_peak_rss());
     pcs_free(&s);
+    eff_set_free(&effects);
     prt_fluid_free(&f);
     prt_boundary_free(&b);
     return 0;

@@ -47,19 +47,12 @@ static const char *const group_keys[] = {"quantity", "functionObject", "title", 
 static const char *const entry_keys[] = {"data", "column", "band", "threshold", "window",
                                          "plateau", NULL};
 
-static void need(int status, const sl_err *err)
-{
-    if (status) sl_fatal("%s", err->msg);
-}
+static void need(int status, const sl_err *err) { dict_need(status, err); }
 
 /* Stops with file:line, keyword and the dictionary it sits in. */
 static void bad(const dict *d, const char *key, const char *why)
 {
-    const dict_entry *e = dict_lookup(d, key);
-    if (e)
-        sl_fatal("%s:%d: keyword '%s' in '%s': %s", dict_entry_file(e), dict_entry_line(e), key,
-                 dict_name(d), why);
-    sl_fatal("%s: keyword '%s' in '%s': %s", dict_file(d), key, dict_name(d), why);
+    dict_fatal(d, key, "in '%s': %s", dict_name(d), why);
 }
 
 /* Warns about the plain (non-dictionary) entries of d not in valid; with

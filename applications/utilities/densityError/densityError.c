@@ -132,7 +132,7 @@ int main(int argc, char **argv)
     for (size_t i = 0; i < times.n; i++) {
         fo_snapshot sn;
         if (fo_snapshot_load(&sn, &c, times.name[i], fo_needs(l), &err)) sl_fatal("%s", err.msg);
-        fo_execute(l, &sn.s, times.time[i], (long)i, 1);
+        fo_execute(l, &sn.v, times.time[i], (long)i, 1);
         fo_snapshot_free(&sn);
     }
     char *dat = sl_strdup(fo_dat_path(l, 0));

@@ -67,7 +67,7 @@ int main(int argc, char **argv)
         fo_snapshot sn;
         sl_info("Time = %s", times.name[i]);
         if (fo_snapshot_load(&sn, &c, times.name[i], needs, &err)) sl_fatal("%s", err.msg);
-        fo_execute(l, &sn.s, times.time[i], (long)i, 1);
+        fo_execute(l, &sn.v, times.time[i], (long)i, 1);
         fo_snapshot_free(&sn);
     }
     for (size_t i = 0; i < fo_count(l); i++)
