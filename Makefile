@@ -28,12 +28,22 @@ endif
 WARN     := -Wall -Wextra -Wshadow -Wconversion -Wno-sign-conversion \
             -Wdouble-promotion -Wmissing-prototypes -Wstrict-prototypes \
             -Wformat=2 -Wundef
+# WERROR=1 (CI) turns every warning into an error.
+CFLAGS   += $(if $(WERROR),-Werror)
 CFLAGS   += -std=c11 -D_GNU_SOURCE -fopenmp $(OPT) $(WARN) -Ilibsrc -MMD -MP
 LDLIBS   := -lgsl -lgslcblas -lz -lm
 LDFLAGS  += -fopenmp $(LDOPT)
 
 MODULES  := $(notdir $(wildcard libsrc/*))
-LIBS     := $(foreach m,$(MODULES),$(BUILD)/lib/libsl_$(m).a)
+# The libraries in layer order, highest first: each may use only those to
+# its right.  They are linked in this order without --start-group, so that
+# a call upwards (a lower layer using a higher one) fails to link.
+LAYERS   := functionObjects case solver effects boundary motion neighbours geometry \
+            casefiles dictedit timestep dictionary io particles kernel core
+ifneq ($(sort $(MODULES)),$(sort $(LAYERS)))
+  $(error libsrc modules and LAYERS in the Makefile differ: $(sort $(MODULES)) vs $(sort $(LAYERS)))
+endif
+LIBS     := $(foreach m,$(LAYERS),$(BUILD)/lib/libsl_$(m).a)
 APPDIRS  := $(wildcard applications/solvers/*) $(wildcard applications/utilities/*)
 APPS     := $(foreach d,$(APPDIRS),$(BIN)/$(notdir $(d)))
 TESTSRC  := $(wildcard tests/unit/test_*.c)
@@ -58,13 +68,13 @@ define app_rules
 $(BIN)/$(notdir $(1)): $(patsubst %.c,$(BUILD)/%.o,$(wildcard $(1)/*.c)) $(LIBS)
 	@mkdir -p $$(@D)
 	$$(CC) $$(LDFLAGS) -o $$@ $(patsubst %.c,$(BUILD)/%.o,$(wildcard $(1)/*.c)) \
-	    -Wl,--start-group $(LIBS) -Wl,--end-group $$(LDLIBS)
+	    $(LIBS) $$(LDLIBS)
 endef
 $(foreach d,$(APPDIRS),$(eval $(call app_rules,$(d))))
 
 $(BUILD)/tests/%: $(BUILD)/tests/unit/%.o $(LIBS)
 	@mkdir -p $(@D)
-	$(CC) $(LDFLAGS) -o $@ $< -Wl,--start-group $(LIBS) -Wl,--end-group $(LDLIBS) -lcmocka
+	$(CC) $(LDFLAGS) -o $@ $< $(LIBS) $(LDLIBS) -lcmocka
 
 $(BUILD)/%.o: %.c
 	@mkdir -p $(@D)

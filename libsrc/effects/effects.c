@@ -44,11 +44,22 @@ void eff_run(eff_set *s, eff_stage st, const eff_view *v)
 {
     for (size_t i = 0; s && i < s->n; i++) {
         eff_instance *e = &s->e[i];
-        if (e->type->stage != st) continue;
+        if (e->type->stage != st || !e->type->apply) continue;
         double t0 = omp_get_wtime();
         e->type->apply(e->state, v);
         e->calls++;
         e->time += omp_get_wtime() - t0;
+    }
+}
+
+void eff_uniform(eff_set *s, double a[3])
+{
+    a[0] = a[1] = a[2] = 0.0;
+    for (size_t i = 0; s && i < s->n; i++) {
+        eff_instance *e = &s->e[i];
+        if (e->type->stage != EFF_FORCES || !e->type->uniform) continue;
+        e->type->uniform(e->state, a);
+        e->calls++;
     }
 }
 

@@ -70,6 +70,9 @@ typedef struct eff_type {
     void *(*read)(const dict *d, const eff_setup *su);
     /* Act (pre-step, forces, post-step) or prepare the density pass. */
     void (*apply)(void *state, const eff_view *v);
+    /* EFF_FORCES, instead of apply: a uniform acceleration, added to a[3];
+     * the solver sets it where it resets the forces (no pass of its own). */
+    void (*uniform)(const void *state, double a[3]);
     /* EFF_DENSITY: correct fluid particle i's density r (the solver's) and
      * rv (with the wall's share rb, the measure of every method);
      * thread-safe, called inside the density pass. */
@@ -102,6 +105,8 @@ eff_instance *eff_add(eff_set *s, const eff_type *t, void *state);
 eff_instance *eff_find(const eff_set *s, const char *name);
 /* Run every effect of the set's stage st, counting and timing each. */
 void eff_run(eff_set *s, eff_stage st, const eff_view *v);
+/* The sum of the uniform accelerations of the forces stage (counted). */
+void eff_uniform(eff_set *s, double a[3]);
 
 /* The effects of constant/fluidProperties, in the order they act. */
 extern const eff_type *const eff_fluid_effects[];

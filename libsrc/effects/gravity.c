@@ -15,23 +15,17 @@ void *eff_gravity_new(const double g[3])
     return s;
 }
 
-static void apply(void *state, const eff_view *v)
+static void uniform(const void *state, double a[3])
 {
     const double *g = state;
-    const double gx = g[0], gy = g[1], gz = g[2];
-    sl_fluid *f = v->f;
-    double *restrict ax = f->ax, *restrict ay = f->ay, *restrict az = f->az;
-#pragma omp parallel for schedule(static)
-    for (size_t i = 0; i < f->n; i++) {
-        ax[i] += gx;
-        ay[i] += gy;
-        az[i] += gz;
-    }
+    a[0] += g[0];
+    a[1] += g[1];
+    a[2] += g[2];
 }
 
 const eff_type eff_gravity = {
     .name = "gravity",
     .stage = EFF_FORCES,
-    .apply = apply,
+    .uniform = uniform,
     .free = free,
 };

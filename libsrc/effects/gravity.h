@@ -1,6 +1,7 @@
 /*
  * gravity: the body force g of constant/fluidProperties (`gravity`), a
- * forces-stage effect: a_i += g.  The vector itself stays a parameter of
+ * forces-stage effect: a_i += g, a uniform acceleration that the solver
+ * sets where it resets the forces (no pass over the particles of its own).  The vector itself stays a parameter of
  * the fluid (the initial time step and the hydrostatic estimates read it
  * too); the effect is in the set only when g is not zero.
  */

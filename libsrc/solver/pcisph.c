@@ -365,13 +365,19 @@ void pcs_find_neighbours(pcs_solver *s)
 }
 
 /* Non-pressure forces per unit mass (the forces-stage effects the case
- * named); zero pressure and pressure force of fluid and active boundary. */
+ * named: the uniform ones set with the reset, the others each a pass);
+ * zero pressure and pressure force of fluid and active boundary. */
 static void compute_forces(pcs_solver *s)
 {
     sl_fluid *f = s->f;
+    double g[3];
+    eff_uniform(s->eff, g); /* gravity */
+    const double gx = g[0], gy = g[1], gz = g[2];
 #pragma omp parallel for schedule(static)
     for (size_t i = 0; i < f->n; i++) {
-        f->ax[i] = f->ay[i] = f->az[i] = 0.0;
+        f->ax[i] = gx;
+        f->ay[i] = gy;
+        f->az[i] = gz;
         f->apx[i] = f->apy[i] = f->apz[i] = 0.0;
         f->p[i] = 0.0;
     }

@@ -5,7 +5,8 @@ print key=value facts for the case tests:
   inspect_case.py <case> [time] [--r0 R] [--lo x y z --hi x y z]
 
 n, nan (count of non-finite values), vmax, vmean, zmin..., pressure near the
-bottom (p_bottom: mean fluid pressure of the lowest layer, z < zmin + r0),
+bottom (p_bottom: mean fluid pressure of the lowest layer, z < zmin + r0/2),
+the top layer's mean height and density (z_top, rho_top: z > zmax - r0/2),
 outside (particles outside the box lo..hi), density error statistics."""
 import math
 import sys
@@ -79,6 +80,9 @@ def main():
         low = pts[:, 2] < z0 + 0.5 * r0
         out["p_bottom"] = float(arr["pressure"][low].mean())
         out["z_bottom"] = float(pts[low, 2].mean())
+        top = pts[:, 2] > pts[:, 2].max() - 0.5 * r0
+        out["z_top"] = float(pts[top, 2].mean())
+        out["rho_top"] = float(arr["density"][top].mean())
     if lo and hi:
         inside = np.all((pts >= np.array(lo)) & (pts <= np.array(hi)), axis=1)
         out["outside"] = int(np.count_nonzero(~inside))

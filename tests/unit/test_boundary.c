@@ -7,6 +7,8 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include "assert_close.h"
+
 #include <math.h>
 
 #include "boundary/boundary.h"
@@ -70,7 +72,7 @@ static void test_rest_density_at_wall(void **state)
     size_t checked = 0;
     for (size_t i = 0; i < w.f.n; i++) {
         if (!far_from_side_walls(w.f.x[i], w.f.y[i]) || w.f.z[i] > 0.2 - 3 * R0) continue;
-        assert_true(fabs(w.f.rho[i] - RHO0) < 1e-3 * RHO0); /* first layer included */
+        assert_close(w.f.rho[i], RHO0, 1e-3 * RHO0); /* first layer included */
         checked++;
     }
     assert_true(checked > 500);
@@ -91,7 +93,7 @@ static void test_rest_stays_at_rest(void **state)
     for (size_t q = 0; q < w.s.nactive; q++) {
         uint32_t i = w.s.active[q];
         if (w.b.z[i] > 0 || !far_from_side_walls(w.b.x[i], w.b.y[i])) continue;
-        assert_true(fabs(w.b.rho[i] - RHO0) < 2e-3 * RHO0);
+        assert_close(w.b.rho[i], RHO0, 2e-3 * RHO0);
         floor++;
     }
     assert_true(floor > 100);
@@ -107,7 +109,7 @@ static void test_container_sampling(void **state)
     make_scene(&w);
     for (size_t i = 0; i < w.b.n; i++) {
         double n = sqrt(w.b.nx[i] * w.b.nx[i] + w.b.ny[i] * w.b.ny[i] + w.b.nz[i] * w.b.nz[i]);
-        assert_true(fabs(n - 1.0) < 1e-12);
+        assert_close(n, 1.0, 1e-12);
         /* a step along the normal goes towards the centre */
         double cx = 0.2 - w.b.x[i], cy = 0.2 - w.b.y[i], cz = 0.2 - w.b.z[i];
         assert_true(cx * w.b.nx[i] + cy * w.b.ny[i] + cz * w.b.nz[i] > 0);
@@ -136,10 +138,10 @@ static void test_collision(void **state)
     w.f.vz[i] = -2.0;
     double x = w.f.x[i];
     bnd_collide(&w.s.fb, &w.b, R0, 1.0, w.f.n, w.f.x, w.f.y, w.f.z, w.f.vx, w.f.vy, w.f.vz);
-    assert_true(fabs(w.f.z[i] - 0.5 * R0) < 0.05 * R0);
-    assert_true(fabs(w.f.x[i] - x) < 1e-3 * R0);
+    assert_close(w.f.z[i], 0.5 * R0, 0.05 * R0);
+    assert_close(w.f.x[i], x, 1e-3 * R0);
     assert_true(fabs(w.f.vz[i]) < 1e-12);
-    assert_true(fabs(w.f.vx[i] - 1.0) < 1e-12);
+    assert_close(w.f.vx[i], 1.0, 1e-12);
     free_scene(&w);
 }
 
@@ -155,7 +157,7 @@ static void test_sphere_sampling(void **state)
     for (size_t i = 0; i < n; i++) {
         double dx = b.x[i] - 1, dy = b.y[i] - 2, dz = b.z[i] - 3;
         double r = sqrt(dx * dx + dy * dy + dz * dz);
-        assert_true(fabs(r - (0.2 - 0.5 * R0)) < 1e-12);
+        assert_close(r, (0.2 - 0.5 * R0), 1e-12);
         assert_true(dx * b.nx[i] + dy * b.ny[i] + dz * b.nz[i] > 0); /* outward */
         double nn = 1e9;
         for (size_t j = 0; j < n; j++) {

@@ -6,6 +6,8 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include "assert_close.h"
+
 #include <math.h>
 
 #include "kernel/kernel.h"
@@ -23,7 +25,7 @@ static void test_normalisation(void **state)
         for (int j = -26; j <= 26; j++)
             for (int l = -26; l <= 26; l++)
                 s += krn_w(&k, dx * sqrt((double)(i * i + j * j + l * l)));
-    assert_true(fabs(s * dx * dx * dx - 1.0) < 1e-3);
+    assert_close(s * dx * dx * dx, 1.0, 1e-3);
 }
 
 static void test_support_and_continuity(void **state)
@@ -34,8 +36,8 @@ static void test_support_and_continuity(void **state)
     assert_true(krn_w(&k, 2.0) == 0.0);
     assert_true(krn_w(&k, 2.5) == 0.0);
     assert_true(krn_gradf(&k, 2.0) == 0.0);
-    assert_true(fabs(krn_w(&k, 1.0 - 1e-12) - krn_w(&k, 1.0 + 1e-12)) < 1e-9);
-    assert_true(fabs(krn_w(&k, 0.0) - 8.0 / (M_PI * 8.0)) < 1e-15);
+    assert_close(krn_w(&k, 1.0 - 1e-12), krn_w(&k, 1.0 + 1e-12), 1e-9);
+    assert_close(krn_w(&k, 0.0), 8.0 / (M_PI * 8.0), 1e-15);
     /* monotone decreasing */
     for (double r = 0.0; r < 2.0; r += 0.01) assert_true(krn_w(&k, r + 0.01) <= krn_w(&k, r));
 }
@@ -50,7 +52,7 @@ static void test_gradient(void **state)
         const double e = 1e-6;
         double fd = (krn_w(&k, r + e) - krn_w(&k, r - e)) / (2 * e);
         double an = krn_gradf(&k, r) * r;
-        assert_true(fabs(fd - an) < 1e-6 * (1.0 + fabs(an)));
+        assert_close(fd, an, 1e-6 * (1.0 + fabs(an)));
     }
 }
 
@@ -75,7 +77,7 @@ static void test_gradient_consistency(void **state)
             }
     for (int a = 0; a < 3; a++) {
         assert_true(fabs(g[a]) < 1e-9);
-        for (int b = 0; b < 3; b++) assert_true(fabs(m[a][b] - (a == b ? -1.0 : 0.0)) < 1e-2);
+        for (int b = 0; b < 3; b++) assert_close(m[a][b], (a == b ? -1.0 : 0.0), 1e-2);
     }
 }
 
@@ -90,10 +92,10 @@ static void test_delta(void **state)
     const double r0 = 0.02, rho0 = 1000.0, m = rho0 * r0 * r0 * r0;
     krn_init(&k, 2 * r0);
     double d = pcs_delta(&k, r0, m, rho0, 1e-3);
-    assert_true(fabs(d - 470.7655) < 0.01);
+    assert_close(d, 470.7655, 0.01);
     /* delta scales as 1 / dt^2 */
     double d2 = pcs_delta(&k, r0, m, rho0, 2e-3);
-    assert_true(fabs(d2 * 4.0 - d) < 1e-9 * d);
+    assert_close(d2 * 4.0, d, 1e-9 * d);
 }
 
 int main(void)
