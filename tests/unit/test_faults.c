@@ -35,6 +35,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "hostile_table.h"
+
 static const char *bin_dir(void)
 {
     const char *b = getenv("SLUICE_BIN");
@@ -656,6 +658,9 @@ static void test_hostile_input(void **state)
                         "and '%s'; got: %.400s\n",
                         h->what, rc, took, wrote ? ", output written" : "", h->expect1, h->expect2,
                         msg[0] ? msg : "(nothing)\n");
+        } else {
+            char cls[128];
+            hostile_record(hostile_class_of(msg, dir, cls, sizeof cls), h->what, msg);
         }
     }
     print_message("%d hostile inputs, %d not handled%s\n", ran, failures,

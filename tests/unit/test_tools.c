@@ -544,6 +544,61 @@ static void test_plot_sweep_where_errors(void **state)
     assert_string_equal(output, ". .. negative.csv results.csv ");
 }
 
+/* ---- tests/run_tests and the table of refused inputs --------------------------- */
+
+/* A fake test program: prints what cmocka prints for `pass` passed, `skip`
+ * skipped and `fail` failed tests, and records one refused input. */
+static void fake_program(const char *path, int pass, int skip, int fail)
+{
+    char text[2048];
+    snprintf(text, sizeof text,
+             "#!/bin/sh\n"
+             "printf 'fake input\\t%s input\\tError: tests/output/x_%s/system/controlDict:3: bad | pipe\\n' "
+             ">> \"$SLUICE_HOSTILE_TSV\"\n"
+             "echo '[==========] Running %d test(s).'\n"
+             "echo '[  PASSED  ] %d test(s).'\n"
+             "%s%s"
+             "exit %d\n",
+             path + strlen(path) - 1, path + strlen(path) - 1, pass + skip + fail, pass,
+             skip ? "echo '[  SKIPPED ] 1 test(s), listed below:'\n" : "",
+             fail ? "echo '[  FAILED  ] 1 test(s), listed below:'\n" : "", fail ? 1 : 0);
+    spit(path, text);
+    assert_int_equal(chmod(path, 0755), 0);
+}
+
+/* run_tests names each program before its output, counts skipped tests
+ * apart from passed ones ("N passed, N failed, N skipped"), and after a
+ * passing full run turns the recorded rows into the Markdown table. */
+static void test_run_tests_names_and_skips(void **state)
+{
+    (void)state;
+    fresh(OUT "/runtests/build/tests");
+    fake_program(OUT "/runtests/build/tests/test_a", 2, 1, 0);
+    fake_program(OUT "/runtests/build/tests/test_b", 3, 0, 0);
+    int rc = run("SLUICE_HOSTILE_TSV=$PWD/" OUT "/runtests/rows.tsv SLUICE_HOSTILE_DOC=$PWD/" OUT
+                 "/runtests/table.md tests/run_tests " OUT "/runtests/build %s", bin_dir());
+    assert_int_equal(rc, 0);
+    const char *a = strstr(output, "==> test_a (1 of 2"), *b = strstr(output, "==> test_b (2 of 2");
+    assert_non_null(a);
+    assert_non_null(b);
+    assert_true(a < strstr(output, "Running 3 test(s)") && b > a);
+    assert_non_null(strstr(output, "<== test_a: 2 passed, 0 failed, 1 skipped"));
+    assert_non_null(strstr(output, "5 passed, 0 failed, 1 skipped\n"));
+    char *md = slurp(OUT "/runtests/table.md");
+    assert_non_null(strstr(md, "| fake input | `a input` | `Error: <case>/system/controlDict:3: bad \\| pipe` |"));
+    assert_non_null(strstr(md, "| fake input | `b input` |"));
+    assert_non_null(strstr(md, "2 inputs in 1 classes"));
+    free(md);
+    /* a failure: counted, non-zero exit, and the table is left alone */
+    fake_program(OUT "/runtests/build/tests/test_b", 3, 0, 1);
+    assert_int_equal(run("rm %s/runtests/table.md && SLUICE_HOSTILE_TSV=$PWD/" OUT
+                         "/runtests/rows.tsv SLUICE_HOSTILE_DOC=$PWD/" OUT "/runtests/table.md "
+                         "tests/run_tests " OUT "/runtests/build %s", OUT, bin_dir()),
+                     1);
+    assert_non_null(strstr(output, "5 passed, 1 failed, 1 skipped\n"));
+    assert_false(exists(OUT "/runtests/table.md"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -561,6 +616,7 @@ int main(void)
         cmocka_unit_test(test_plot_sweep_pareto),
         cmocka_unit_test(test_plot_sweep_where),
         cmocka_unit_test(test_plot_sweep_where_errors),
+        cmocka_unit_test(test_run_tests_names_and_skips),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
