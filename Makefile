@@ -83,8 +83,9 @@ $(BUILD)/%.o: %.c
 debug:
 	$(MAKE) MODE=debug all
 
-# Unit tests (cmocka) and case tests; tests/run_tests closes with the
-# summary line "N passed, N failed".
+# Unit tests (cmocka) and case tests; tests/run_tests names each program as
+# it starts, closes with the summary line "N passed, N failed, N skipped",
+# and after a full passing run writes doc/hostile-inputs.md.
 test: all
 	@etc/installDependencies --check
 	@tests/run_tests $(BUILD) $(BIN)

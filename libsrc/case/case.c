@@ -2,6 +2,7 @@
 #include "case/case.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
+#include "core/sl_progress.h"
 #include "dictionary/dict.h"
 #include "effects/gravity.h"
 #include "effects/moving_boundary.h"
@@ -56,7 +57,7 @@ static int choose(const dict *d, const char *key, const char *word, const char *
 /* ---- system/controlDict ---- */
 
 static const char *const control_keys[] = {
-    "application", "startFrom", "startTime", "endTime", "writeInterval", "writeFormat",
+    "application", "startFrom", "startTime", "endTime", "writeInterval", "writeControl", "writeFormat",
     "writeCompression", "timePrecision", "purgeWrite", "numberOfThreads", "writeBoundary",
     "functions", NULL};
 
@@ -64,6 +65,7 @@ static void read_controls(sl_case *c)
 {
     static const char *const start_choices[] = {"startTime", "latestTime", NULL};
     static const char *const format_choices[] = {"binary", "ascii", NULL};
+    static const char *const write_choices[] = {"adjustableRunTime", "runTime", NULL};
     dict *d = read_dict(c, "system/controlDict");
     case_controls *k = &c->ctl;
     sl_err err;
@@ -77,6 +79,9 @@ static void read_controls(sl_case *c)
     if (!(k->end_time > k->start_time)) bad_value(d, "endTime", "must be larger than startTime");
     need(dict_get_scalar(d, "writeInterval", &k->write_interval, &err), &err);
     positive(d, "writeInterval", k->write_interval);
+    need(dict_get_word_or(d, "writeControl", "adjustableRunTime", &w, &err), &err);
+    k->write_control = choose(d, "writeControl", w, write_choices) ? CASE_RUN_TIME
+                                                                   : CASE_ADJUSTABLE_RUN_TIME;
     need(dict_get_word_or(d, "writeFormat", "binary", &w, &err), &err);
     k->ascii = choose(d, "writeFormat", w, format_choices);
     need(dict_get_bool_or(d, "writeCompression", 1, &k->compress, &err), &err);
@@ -462,9 +467,20 @@ static void check_size(const sl_case *c, const char *file, const char *what, con
                  "wrong units?", c->dir, file, what, name, n, c->prm.r0, limit);
 }
 
+/* "Sampling geometry 'glass' (2 of 5 parts)": what a long build is doing
+ * (sl_progress: in place on a terminal, every 10 s in a log). */
+static void build_status(sl_progress *p, const char *what, const char *name, size_t k, size_t n)
+{
+    char text[256];
+    snprintf(text, sizeof text, "%s '%s' (%zu of %zu parts)", what, name, k + 1, n);
+    sl_progress_update(p, (double)k, text);
+}
+
 void case_build(sl_case *c)
 {
     const double r0 = c->prm.r0;
+    sl_progress prog;
+    const size_t nparts = c->nshapes + c->nregions;
     for (size_t s = 0; s < c->nshapes; s++) {
         double lo[3], hi[3];
         if (c->shapes[s].kind == GEO_PLANE) continue; /* bounded by its edges */
@@ -502,9 +518,11 @@ void case_build(sl_case *c)
                 t->hi[d] = mid + r0;
             }
     }
+    sl_progress_start(&prog, stderr, 0, (double)nparts, 10.0);
     for (size_t s = 0; s < c->nshapes; s++) {
         const geo_shape *g = &c->shapes[s];
         double lo[3], hi[3];
+        build_status(&prog, "sampling geometry", g->name, s, nparts);
         if (geo_sample(g, r0, (uint32_t)s, &c->boundary) == 0)
             sl_fatal("%s/constant/boundaryProperties: geometry '%s' is too small to sample "
                      "with particleSpacing %g", c->dir, g->name, r0);
@@ -513,6 +531,7 @@ void case_build(sl_case *c)
     }
     for (size_t r = 0; r < c->nregions; r++) {
         const case_region *g = &c->regions[r];
+        build_status(&prog, "filling fluid region", g->name, c->nshapes + r, nparts);
         size_t n = geo_fill_region(&g->shape, r0, g->velocity, c->shapes, c->nshapes, &c->fluid);
         if (n == 0)
             sl_fatal("%s/constant/fluidProperties: fluid region '%s' holds no particle "
@@ -529,6 +548,7 @@ void case_build(sl_case *c)
         for (int k = 0; k < 3; k++) { lo[k] = m->centre[k] - reach; hi[k] = m->centre[k] + reach; }
         grow_bounds(c->lo, c->hi, lo, hi);
     }
+    sl_progress_end(&prog);
     if (c->fluid.n > UINT32_MAX / 2 || c->boundary.n > UINT32_MAX / 2)
         sl_fatal("%s: too many particles (%zu fluid, %zu boundary)", c->dir, c->fluid.n,
                  c->boundary.n);

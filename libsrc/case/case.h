@@ -26,9 +26,13 @@
 #include "timestep/timestep.h"
 
 typedef enum { CASE_START_TIME, CASE_LATEST_TIME } case_start;
+/* writeControl: adjustableRunTime (steps evened out to land on each write
+ * time) or runTime (write at the first step at or past it). */
+typedef enum { CASE_ADJUSTABLE_RUN_TIME, CASE_RUN_TIME } case_write_control;
 
 typedef struct case_controls {
     case_start start_from;
+    case_write_control write_control;
     double start_time, end_time, write_interval;
     int ascii, compress, time_precision, purge_write, nthreads, write_boundary;
 } case_controls;

@@ -25,22 +25,7 @@ static char *join(const char *a, const char *b)
 }
 
 /* Remove a time directory: its files and sub-directories (uniform/). */
-static void remove_dir(const char *path)
-{
-    DIR *d = opendir(path);
-    struct dirent *e;
-    if (!d) return;
-    while ((e = readdir(d)))
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
-            char *p = join(path, e->d_name);
-            struct stat st;
-            if (lstat(p, &st) == 0 && S_ISDIR(st.st_mode)) remove_dir(p);
-            else unlink(p);
-            free(p);
-        }
-    closedir(d);
-    rmdir(path);
-}
+static void remove_dir(const char *path) { tdir_remove_tree(path); }
 
 static void push_time(case_output *o, double t, const char *name)
 {
@@ -60,6 +45,7 @@ void out_init(case_output *o, const sl_case *c, double start_time)
     sl_err err;
     memset(o, 0, sizeof *o);
     o->c = c;
+    o->precision = c->ctl.time_precision;
     if (tdir_list_read(c->dir, "fluid.vtu", &l, &err)) sl_fatal("%s", err.msg);
     for (size_t i = 0; i < l.n; i++)
         /* up to and including the start time: a restart does not rewrite
@@ -159,14 +145,55 @@ static void purge(case_output *o)
     }
 }
 
-int out_write(case_output *o, const pcs_solver *s, double t, const pcs_snapshot *snap,
-              const void *ctrl, size_t ctrl_size, sl_err *err)
+/* Two times are the same time (a write repeated after a rollback). */
+static int same_time(double a, double b) { return fabs(a - b) <= 1e-12 * (1.0 + fabs(a)); }
+
+/* Whether `name` is taken by a time written before other than t. */
+static int name_taken(const case_output *o, const char *name, double t)
+{
+    for (size_t i = 0; i < o->n; i++)
+        if (!strcmp(o->names[i], name) && !same_time(o->times[i], t)) return 1;
+    return 0;
+}
+
+void out_name(case_output *o, double t, char *name, size_t len)
+{
+    const double resolution = 1e-3 * o->c->ctl.write_interval;
+    int p = tdir_name_within(t, o->precision, resolution, name, len);
+    while (p < 17 && name_taken(o, name, t)) tdir_name(t, ++p, name, len);
+    if (p > o->precision) {
+        char before[64];
+        tdir_name(t, o->precision, before, sizeof before);
+        sl_warning("%s/system/controlDict: timePrecision %d names time %.17g \"%s\"%s; "
+                   "writing it as \"%s\" and later times with %d digits (raise timePrecision "
+                   "to keep the names you chose)",
+                   o->c->dir, o->precision, t, before,
+                   name_taken(o, before, t) ? ", the name of an earlier time" : ", not close to it",
+                   name, p);
+        o->precision = p;
+    }
+}
+
+int out_discard_after(case_output *o, double t, sl_err *err)
+{
+    size_t n0 = o->n;
+    while (o->n && o->times[o->n - 1] > t && !same_time(o->times[o->n - 1], t)) {
+        char *p = join(o->c->dir, o->names[o->n - 1]);
+        remove_dir(p);
+        free(p);
+        free(o->names[--o->n]);
+    }
+    return o->n != n0 ? write_collections(o, err) : 0;
+}
+
+int out_write(case_output *o, const pcs_solver *s, double t, const pcs_snapshot *const *snaps,
+              int nsnaps, const void *ctrl, size_t ctrl_size, sl_err *err)
 {
     const case_controls *k = &o->c->ctl;
     char name[64], tmpname[96];
     vtk_options opt;
     int rc;
-    tdir_name(t, k->time_precision, name, sizeof name);
+    out_name(o, t, name, sizeof name);
     snprintf(tmpname, sizeof tmpname, "%s.tmp.%ld", name, (long)getpid());
     char *dir = join(o->c->dir, name), *tmp = join(o->c->dir, tmpname);
     char *fpath = join(tmp, "fluid.vtu"), *bpath = join(tmp, "boundary.vtu");
@@ -178,7 +205,7 @@ int out_write(case_output *o, const pcs_solver *s, double t, const pcs_snapshot 
     rc = tdir_mkdirs(tmp, err);
     if (!rc) rc = write_fluid(fpath, s, &opt, err);
     if (!rc && k->write_boundary) rc = write_boundary(bpath, s, &opt, err);
-    if (!rc && snap) rc = rst_write(tmp, snap, ctrl, ctrl_size, err);
+    if (!rc && nsnaps) rc = rst_write(tmp, snaps, nsnaps, ctrl, ctrl_size, err);
     if (!rc) {
         remove_dir(dir); /* an older run's directory of the same time */
         if (rename(tmp, dir) != 0) {
@@ -190,9 +217,15 @@ int out_write(case_output *o, const pcs_solver *s, double t, const pcs_snapshot 
         remove_dir(tmp);
     } else {
         if (o->n && o->times[o->n - 1] >= t) { /* rewritten time: replace */
+            if (strcmp(o->names[o->n - 1], name)) { /* under another name: that one goes */
+                char *old = join(o->c->dir, o->names[o->n - 1]);
+                remove_dir(old);
+                free(old);
+            }
             free(o->names[--o->n]);
         }
         push_time(o, t, name);
+        snprintf(o->last_name, sizeof o->last_name, "%s", name);
         purge(o);
         rc = write_collections(o, err);
     }

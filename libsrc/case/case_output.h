@@ -21,16 +21,28 @@ typedef struct case_output {
     size_t n, cap;
     double *times;
     char **names;
+    int precision;      /* digits of time names: timePrecision, raised when needed */
+    char last_name[64]; /* name of the last time written */
 } case_output;
 
 /* Collect the time directories already present (for restarts) up to and
  * including `start_time`; later ones are left alone and not listed. */
 void out_init(case_output *o, const sl_case *c, double start_time);
 void out_free(case_output *o);
-/* Write time t, with the restart file of snapshot `snap` and the
- * controller state ctrl (ctrl_size bytes) when snap != NULL; returns 0, or
- * nonzero with err filled (nothing half-written). */
-int out_write(case_output *o, const pcs_solver *s, double t, const pcs_snapshot *snap,
-              const void *ctrl, size_t ctrl_size, sl_err *err);
+/* The name of time t, unique and true, in OpenFOAM's habit: with
+ * timePrecision digits, or more when that name would read back more than
+ * 1e-3 writeInterval away from t (0.016 as "0.02") or is the name of
+ * another time already written (0.012 and 0.01 as "0.01").  A raised
+ * precision is kept for the rest of the run, with a warning. */
+void out_name(case_output *o, double t, char *name, size_t len);
+/* Write time t, with the restart file of the nsnaps snapshots `snaps`
+ * (none: no restart file) and the run's other state ctrl (ctrl_size
+ * bytes); returns 0, or nonzero with err filled (nothing half-written).
+ * The name used is in o->last_name. */
+int out_write(case_output *o, const pcs_solver *s, double t, const pcs_snapshot *const *snaps,
+              int nsnaps, const void *ctrl, size_t ctrl_size, sl_err *err);
+/* The run went back to time t (shock handling): time directories written
+ * after t hold states it discarded; remove them and their entries. */
+int out_discard_after(case_output *o, double t, sl_err *err);
 
 #endif

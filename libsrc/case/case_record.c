@@ -7,12 +7,25 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
-void rec_open(case_record *r, const sl_case *c, double start_time)
+static double rec_wall(void)
 {
-    char tname[64];
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+void rec_flush(case_record *r)
+{
+    if (r->f && fflush(r->f) != 0)
+        sl_warning("could not write '%s': %s", r->path, strerror(errno));
+    r->flushed = rec_wall();
+}
+
+void rec_open(case_record *r, const sl_case *c, const char *tname)
+{
     sl_err err;
-    tdir_name(start_time, c->ctl.time_precision, tname, sizeof tname);
     size_t n = strlen(c->dir) + strlen(tname) + 64;
     char *dir = sl_malloc(n, "path");
     snprintf(dir, n, "%s/postProcessing/timeStep/%s", c->dir, tname);
@@ -33,6 +46,7 @@ void rec_open(case_record *r, const sl_case *c, double start_time)
                   "ihmsen2010)\n"
                   "# Time\tdeltaT\titerations\trhoErrAvg\trhoErrMax\tvMax\tFMax\tshock\twallTime"
                   "\tcontrollerDeltaT\tvolErrAvg\tvolErrMax\n");
+    rec_flush(r);
 }
 
 void rec_step(case_record *r, double t, double dt, const pcs_stats *st, int shock, double wall,
@@ -41,6 +55,7 @@ void rec_step(case_record *r, double t, double dt, const pcs_stats *st, int shoc
     fprintf(r->f, "%.10g\t%.17g\t%d\t%.6g\t%.6g\t%.6g\t%.6g\t%d\t%.6g\t%.17g\t%.6g\t%.6g\n", t,
             dt, st->iterations, 100 * st->err_avg, 100 * st->err_max, st->vmax, st->fmax, shock,
             wall, dt_next, 100 * st->vol_avg, 100 * st->vol_max);
+    if (rec_wall() - r->flushed >= REC_FLUSH_SECONDS) rec_flush(r);
 }
 
 void rec_close(case_record *r)

@@ -15,10 +15,19 @@
 typedef struct case_record {
     FILE *f;
     char *path;
+    double flushed; /* wall clock (s) of the last flush */
 } case_record;
 
-/* Open (creating folders) the record for a run starting at start_time. */
-void rec_open(case_record *r, const sl_case *c, double start_time);
+/* Rows reach the file at least once per second of wall time (so that
+ * monitorCase sees a large case's first steps, and kill -9 loses at most
+ * a second), and at every rec_flush (the solver calls it on every write
+ * and on signals). */
+#define REC_FLUSH_SECONDS 1.0
+
+/* Open (creating folders) the record postProcessing/timeStep/<start_name>/
+ * of a run starting from the time directory named start_name. */
+void rec_open(case_record *r, const sl_case *c, const char *start_name);
+void rec_flush(case_record *r);
 /* One row: time after the step, the deltaT it used, the step's
  * statistics, a shock flag, the step's wall-clock seconds and the
  * controller's deltaT for the next step (the step used may differ from it

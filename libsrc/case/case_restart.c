@@ -10,14 +10,19 @@
 #include <string.h>
 #include <zlib.h>
 
-#define RST_MAGIC "SLUICE-RESTART-1"
+#define RST_FAMILY "SLUICE-RESTART-"
+#define RST_MAGIC RST_FAMILY "2"
 
 typedef struct rst_header {
     char magic[16];
-    uint64_t n, ctrl_size;
+    uint64_t nsnaps, ctrl_size;
+} rst_header;
+
+typedef struct rst_snap_header {
+    uint64_t n;
     double time, dt;
     int64_t step;
-} rst_header;
+} rst_snap_header;
 
 static char *rst_path(const char *dir, int mkdir_uniform, sl_err *err)
 {
@@ -44,38 +49,47 @@ static int put(gzFile g, const void *data, size_t bytes)
     return 0;
 }
 
+/* Read `bytes` (into data, or skipped when data is NULL); -1 on a short
+ * read or a zlib error. */
 static int get(gzFile g, void *data, size_t bytes)
 {
-    char *c = data;
+    char *c = data, sink[4096];
     while (bytes > 0) {
-        unsigned chunk = bytes > (1u << 30) ? 1u << 30 : (unsigned)bytes;
-        if (gzread(g, c, chunk) != (int)chunk) return -1;
-        c += chunk;
+        size_t room = data ? (size_t)1 << 30 : sizeof sink;
+        unsigned chunk = (unsigned)(bytes > room ? room : bytes);
+        if (gzread(g, data ? c : sink, chunk) != (int)chunk) return -1;
+        if (data) c += chunk;
         bytes -= chunk;
     }
     return 0;
 }
 
-int rst_write(const char *dir, const pcs_snapshot *s, const void *ctrl, size_t ctrl_size,
-              sl_err *err)
+static int put_snapshot(gzFile g, const pcs_snapshot *s)
+{
+    rst_snap_header h = {s->n, s->time, s->dt, s->step};
+    const size_t bytes = s->n * sizeof(double);
+    const double *a[6] = {s->x, s->y, s->z, s->vx, s->vy, s->vz};
+    int rc = put(g, &h, sizeof h);
+    for (int k = 0; k < 6 && !rc; k++) rc = put(g, a[k], bytes);
+    if (!rc) rc = put(g, s->id, s->n * sizeof *s->id);
+    return rc;
+}
+
+int rst_write(const char *dir, const pcs_snapshot *const *snaps, int nsnaps, const void *ctrl,
+              size_t ctrl_size, sl_err *err)
 {
     char *path = rst_path(dir, 1, err);
     if (!path) return 1;
+    errno = 0;
     gzFile g = gzopen(path, "wb1");
     int rc = g ? 0 : -1;
     rst_header h;
     memset(&h, 0, sizeof h);
-    memcpy(h.magic, RST_MAGIC, sizeof h.magic);
-    h.n = s->n;
+    memcpy(h.magic, RST_MAGIC, strlen(RST_MAGIC));
+    h.nsnaps = (uint64_t)nsnaps;
     h.ctrl_size = ctrl_size;
-    h.time = s->time;
-    h.dt = s->dt;
-    h.step = s->step;
-    const size_t bytes = s->n * sizeof(double);
     if (!rc) rc = put(g, &h, sizeof h);
-    const double *a[6] = {s->x, s->y, s->z, s->vx, s->vy, s->vz};
-    for (int k = 0; k < 6 && !rc; k++) rc = put(g, a[k], bytes);
-    if (!rc) rc = put(g, s->id, s->n * sizeof *s->id);
+    for (int k = 0; k < nsnaps && !rc; k++) rc = put_snapshot(g, snaps[k]);
     if (!rc && ctrl_size) rc = put(g, ctrl, ctrl_size);
     if (g && gzclose(g) != Z_OK) rc = -1;
     if (rc) sl_err_set(err, "cannot write '%s': %s", path, strerror(errno ? errno : EIO));
@@ -83,39 +97,96 @@ int rst_write(const char *dir, const pcs_snapshot *s, const void *ctrl, size_t c
     return rc ? 1 : 0;
 }
 
-int rst_read(const char *dir, pcs_snapshot *s, void *ctrl, size_t ctrl_size, sl_err *err)
+/* zlib's reason for the last failure, or "it ends early". */
+static const char *why(gzFile g)
+{
+    int code;
+    const char *msg = gzerror(g, &code);
+    return code != Z_OK && msg && *msg ? msg : "it ends early";
+}
+
+/* One snapshot: into s (keep) or skipped. */
+static int get_snapshot(gzFile g, pcs_snapshot *s, int keep)
+{
+    rst_snap_header h;
+    if (get(g, &h, sizeof h) || h.n > ((uint64_t)1 << 34)) return -1;
+    const size_t n = (size_t)h.n, bytes = n * sizeof(double);
+    if (!keep) return get(g, NULL, 6 * bytes + n * sizeof(uint32_t));
+    sl_fluid tmp;
+    prt_fluid_init(&tmp); /* grow the snapshot's buffers through a take of an empty fluid */
+    tmp.n = n;
+    prt_fluid_reserve(&tmp, n ? n : 1);
+    snap_take(s, &tmp, h.time, h.dt, (long)h.step);
+    prt_fluid_free(&tmp);
+    double *a[6] = {s->x, s->y, s->z, s->vx, s->vy, s->vz};
+    int rc = 0;
+    for (int k = 0; k < 6 && !rc; k++) rc = get(g, a[k], bytes);
+    if (!rc) rc = get(g, s->id, n * sizeof *s->id);
+    return rc;
+}
+
+static rst_status rst_read_body(gzFile g, const char *path, pcs_snapshot *snaps, int max,
+                                int *nsnaps, void *ctrl, size_t ctrl_size, sl_err *err)
+{
+    rst_header h;
+    char tail;
+    if (gzdirect(g) || get(g, &h, sizeof h)) {
+        sl_err_set(err, "restart file '%s' is damaged (%s)", path,
+                   gzdirect(g) ? "not a gzip stream" : why(g));
+        return RST_DAMAGED;
+    }
+    if (memcmp(h.magic, RST_MAGIC, sizeof h.magic)) {
+        int other = !memcmp(h.magic, RST_FAMILY, strlen(RST_FAMILY));
+        sl_err_set(err, other ? "restart file '%s' was written by another version of Sluice "
+                                "(format %.1s, this one reads " RST_MAGIC ")"
+                              : "restart file '%s' is damaged (no Sluice restart header)%.0s",
+                   path, h.magic + strlen(RST_FAMILY));
+        return other ? RST_OTHER_VERSION : RST_DAMAGED;
+    }
+    if (h.nsnaps < 1 || h.nsnaps > RST_MAX_SNAPSHOTS) {
+        sl_err_set(err, "restart file '%s' is damaged (%llu states)", path,
+                   (unsigned long long)h.nsnaps);
+        return RST_DAMAGED;
+    }
+    if (ctrl && h.ctrl_size != ctrl_size) {
+        sl_err_set(err, "restart file '%s' was written for a different case (%llu bytes of run "
+                        "state, this case has %zu: emitters added or removed?)",
+                   path, (unsigned long long)h.ctrl_size, ctrl_size);
+        return RST_MISMATCH;
+    }
+    *nsnaps = 0;
+    for (uint64_t k = 0; k < h.nsnaps; k++) {
+        int keep = (int)k < max;
+        if (get_snapshot(g, keep ? &snaps[k] : NULL, keep)) {
+            sl_err_set(err, "restart file '%s' is damaged (%s)", path, why(g));
+            return RST_DAMAGED;
+        }
+        *nsnaps += keep;
+    }
+    /* the rest, then the end: zlib checks the trailer's CRC-32 and length */
+    int more = get(g, ctrl, (size_t)h.ctrl_size) ? -1 : gzread(g, &tail, 1);
+    if (more != 0) {
+        sl_err_set(err, "restart file '%s' is damaged (%s)", path,
+                   more < 0 ? why(g) : "data after its end");
+        return RST_DAMAGED;
+    }
+    return RST_OK;
+}
+
+rst_status rst_read(const char *dir, pcs_snapshot *snaps, int max, int *nsnaps, void *ctrl,
+                    size_t ctrl_size, sl_err *err)
 {
     char *path = rst_path(dir, 0, err);
+    errno = 0;
     gzFile g = gzopen(path, "rb");
-    rst_header h;
-    int rc = 0;
     if (!g) {
         sl_err_set(err, "cannot open restart file '%s': %s (was this time written by an older "
-                        "Sluice, or by hand?)", path, strerror(errno));
+                        "Sluice, or by hand?)", path, strerror(errno ? errno : ENOMEM));
         free(path);
-        return 1;
+        return RST_MISSING;
     }
-    if (get(g, &h, sizeof h) || memcmp(h.magic, RST_MAGIC, sizeof h.magic) ||
-        h.ctrl_size != ctrl_size || h.n > ((uint64_t)1 << 34)) {
-        sl_err_set(err, "'%s' is not a restart file of this version of Sluice", path);
-        rc = 1;
-    }
-    if (!rc) {
-        sl_fluid tmp;
-        prt_fluid_init(&tmp);
-        tmp.n = (size_t)h.n;
-        /* grow the snapshot's buffers through a take of an empty fluid */
-        prt_fluid_reserve(&tmp, (size_t)h.n ? (size_t)h.n : 1);
-        snap_take(s, &tmp, h.time, h.dt, (long)h.step);
-        prt_fluid_free(&tmp);
-        const size_t bytes = (size_t)h.n * sizeof(double);
-        double *a[6] = {s->x, s->y, s->z, s->vx, s->vy, s->vz};
-        for (int k = 0; k < 6 && !rc; k++) rc = get(g, a[k], bytes);
-        if (!rc) rc = get(g, s->id, (size_t)h.n * sizeof *s->id);
-        if (!rc && ctrl_size) rc = get(g, ctrl, ctrl_size);
-        if (rc) sl_err_set(err, "restart file '%s' is truncated or corrupt", path);
-    }
+    rst_status st = rst_read_body(g, path, snaps, max, nsnaps, ctrl, ctrl_size, err);
     gzclose(g);
     free(path);
-    return rc ? 1 : 0;
+    return st;
 }

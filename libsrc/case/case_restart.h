@@ -1,10 +1,14 @@
 /*
  * case_restart: what a restart needs, at full precision, in a file of its
  * own inside each time directory: <time>/uniform/restart (gzip, zlib), as
- * OpenFOAM keeps <time>/uniform/time.  It holds the step state
+ * OpenFOAM keeps <time>/uniform/time.  It holds one or more step states
  * (pcs_snapshot: positions, velocities and ids in memory order, time, step,
- * deltaT) and the time-step controller's state as an opaque block, so that
- * a run stopped and restarted from it continues bit-identically.
+ * deltaT) -- the state written and the state at the start of the step
+ * before it, which a shock right after the restart goes back to -- and the
+ * run's other state (time-step controller, emitters, write schedule) as an
+ * opaque block, so that a run stopped and restarted from it continues
+ * bit-identically.  The gzip trailer's CRC-32 covers every byte: a read
+ * goes to the end of the file, so any damage is found before a restart.
  */
 #ifndef SL_CASE_RESTART_H
 #define SL_CASE_RESTART_H
@@ -14,10 +18,26 @@
 #include "core/sl_log.h"
 #include "solver/pcs_snapshot.h"
 
-/* Write into `dir` (created if needed) the file uniform/restart. */
-int rst_write(const char *dir, const pcs_snapshot *s, const void *ctrl, size_t ctrl_size,
-              sl_err *err);
-/* Read <dir>/uniform/restart into s; ctrl must be ctrl_size bytes. */
-int rst_read(const char *dir, pcs_snapshot *s, void *ctrl, size_t ctrl_size, sl_err *err);
+#define RST_MAX_SNAPSHOTS 2
+
+typedef enum {
+    RST_OK,
+    RST_MISSING,       /* no restart file (or it cannot be opened) */
+    RST_OTHER_VERSION, /* a restart file of another version of Sluice */
+    RST_MISMATCH,      /* written for a different case (its other state differs in size) */
+    RST_DAMAGED        /* truncated or corrupt */
+} rst_status;
+
+/* Write into `dir` (created if needed) the file uniform/restart with
+ * nsnaps (1..RST_MAX_SNAPSHOTS) snapshots, the first the state at the
+ * directory's time, and ctrl (ctrl_size bytes). */
+int rst_write(const char *dir, const pcs_snapshot *const *snaps, int nsnaps, const void *ctrl,
+              size_t ctrl_size, sl_err *err);
+/* Read <dir>/uniform/restart: up to max snapshots into snaps[] (their
+ * number into *nsnaps), and the other state into ctrl, which must be
+ * ctrl_size bytes (ctrl NULL: any size, not kept -- to check a file).
+ * Returns RST_OK, or the status with err saying what is wrong. */
+rst_status rst_read(const char *dir, pcs_snapshot *snaps, int max, int *nsnaps, void *ctrl,
+                    size_t ctrl_size, sl_err *err);
 
 #endif

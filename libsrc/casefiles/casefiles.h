@@ -95,6 +95,16 @@ int cf_table_column(const cf_table *t, const char *name);
 /* "a, b, c": the column names, for messages.  Allocated. */
 char *cf_table_names(const cf_table *t);
 
+/* The whole per-step record of a case: every start-time folder of
+ * postProcessing/timeStep/ in time order (one per run and restart), rows
+ * of a folder kept up to the start of the next one (a restart from an
+ * earlier time replaces the rows after it), as one table with the first
+ * folder's columns.  *folders (may be NULL) gets "postProcessing/timeStep/
+ * {0,0.5}/timeStep.dat" for titles and *newest (may be NULL) the path of
+ * the newest file (to watch); both allocated.  Nonzero with err filled if
+ * there is no record. */
+int cf_record_read(const char *case_dir, cf_table *t, char **folders, char **newest, sl_err *err);
+
 /* ---- plotting with gnuplot ------------------------------------------------- */
 
 /* "pngcairo" if gnuplot has it, else "png". */

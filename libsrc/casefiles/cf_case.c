@@ -171,3 +171,73 @@ char *cf_record_path(const char *case_dir, sl_err *err)
     free(dir);
     return path;
 }
+
+/* Append the rows of u with time <= until to t, columns matched by name. */
+static void cf_record_append(cf_table *t, const cf_table *u, double until)
+{
+    int *map = sl_malloc((t->ncol + 1) * sizeof *map, "column map");
+    size_t keep = 0;
+    for (size_t c = 0; c < t->ncol; c++) map[c] = cf_table_column(u, t->name[c]);
+    for (size_t r = 0; r < u->nrow; r++) keep += u->v[r * u->ncol] <= until;
+    t->v = sl_realloc(t->v, (t->nrow + keep + 1) * t->ncol * sizeof *t->v, "record rows");
+    for (size_t r = 0; r < u->nrow; r++) {
+        if (!(u->v[r * u->ncol] <= until)) continue;
+        double *row = t->v + t->nrow++ * t->ncol;
+        for (size_t c = 0; c < t->ncol; c++)
+            row[c] = map[c] >= 0 ? u->v[r * u->ncol + (size_t)map[c]] : (double)NAN;
+    }
+    free(map);
+}
+
+int cf_record_read(const char *case_dir, cf_table *t, char **folders, char **newest, sl_err *err)
+{
+    char *dir = cf_join(case_dir, "postProcessing/timeStep");
+    tdir_list l;
+    sl_err ignore;
+    memset(t, 0, sizeof *t);
+    if (folders) *folders = NULL;
+    if (newest) *newest = NULL;
+    if (!cf_is_dir(dir) || tdir_list_read(dir, "timeStep.dat", &l, &ignore) || l.n == 0) {
+        if (cf_is_dir(dir)) tdir_list_free(&l);
+        free(dir);
+        sl_err_set(err, "%s: no per-step record postProcessing/timeStep/*/timeStep.dat (has the "
+                        "case been run?)", case_dir);
+        return 1;
+    }
+    size_t len = 64;
+    for (size_t i = 0; i < l.n; i++) len += strlen(l.name[i]) + 1;
+    char *names = sl_malloc(len, "record folders");
+    names[0] = '\0';
+    int rc = 0;
+    for (size_t i = 0; i < l.n && !rc; i++) {
+        char *sub = cf_join(dir, l.name[i]), *path = cf_join(sub, "timeStep.dat");
+        cf_table u;
+        double until = i + 1 < l.n ? l.time[i + 1] : (double)INFINITY;
+        rc = cf_table_read(path, &u, err);
+        if (!rc && i == 0) {
+            *t = u; /* the first one's columns */
+            memset(&u, 0, sizeof u);
+            size_t keep = 0;
+            while (keep < t->nrow && t->v[keep * t->ncol] <= until) keep++;
+            t->nrow = keep;
+        } else if (!rc) {
+            cf_record_append(t, &u, until);
+        }
+        cf_table_free(&u);
+        if (newest && i + 1 == l.n) *newest = sl_strdup(path);
+        strcat(names, i ? "," : "");
+        strcat(names, l.name[i]);
+        free(path);
+        free(sub);
+    }
+    if (folders) {
+        *folders = sl_malloc(len + 64, "record folders");
+        snprintf(*folders, len + 64, l.n > 1 ? "postProcessing/timeStep/{%s}/timeStep.dat"
+                                             : "postProcessing/timeStep/%s/timeStep.dat", names);
+    }
+    free(names);
+    tdir_list_free(&l);
+    free(dir);
+    if (rc) cf_table_free(t);
+    return rc;
+}

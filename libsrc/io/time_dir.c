@@ -12,10 +12,12 @@
 #include <dirent.h>
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 void tdir_name(double t, int precision, char *buf, size_t len)
 {
@@ -26,6 +28,15 @@ void tdir_name(double t, int precision, char *buf, size_t len)
     /* -0 is named "0"; done on the text because -fno-signed-zeros lets the
      * compiler drop arithmetic that would clear the sign. */
     if (strcmp(buf, "-0") == 0) memmove(buf, buf + 1, 2);
+}
+
+int tdir_name_within(double t, int precision, double resolution, char *buf, size_t len)
+{
+    int p = precision <= 0 ? 6 : precision > 17 ? 17 : precision;
+    for (;; p++) {
+        tdir_name(t, p, buf, len);
+        if (p >= 17 || fabs(strtod(buf, NULL) - t) <= resolution) return p;
+    }
 }
 
 /* "dir/name", allocated. */
@@ -169,4 +180,54 @@ int tdir_mkdirs(const char *path, sl_err *err)
     if (rc != 0) sl_err_set(err, "cannot create '%s': %s", path, strerror(errno));
     free(p);
     return rc != 0;
+}
+
+void tdir_remove_tree(const char *path)
+{
+    struct stat st;
+    if (lstat(path, &st) != 0) return;
+    if (S_ISDIR(st.st_mode)) {
+        DIR *d = opendir(path);
+        struct dirent *e;
+        while (d && (e = readdir(d)))
+            if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
+                char *p = tdir_join(path, e->d_name);
+                tdir_remove_tree(p);
+                free(p);
+            }
+        if (d) closedir(d);
+        rmdir(path);
+    } else {
+        unlink(path);
+    }
+}
+
+/* The pid of a temporary's name "<name>.tmp.<pid>[.<ext>]"; 0 if none. */
+static long tdir_tmp_pid(const char *name)
+{
+    const char *at = strstr(name, ".tmp.");
+    char *end;
+    if (!at || at == name) return 0;
+    long pid = strtol(at + 5, &end, 10);
+    return pid > 0 && (*end == '\0' || *end == '.') ? pid : 0;
+}
+
+size_t tdir_remove_stale(const char *case_dir, char *names, size_t len)
+{
+    DIR *d = opendir(case_dir);
+    struct dirent *e;
+    size_t n = 0, off = 0;
+    if (len) names[0] = '\0';
+    if (!d) return 0;
+    while ((e = readdir(d))) {
+        long pid = tdir_tmp_pid(e->d_name);
+        if (!pid || pid == (long)getpid() || kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue;
+        char *p = tdir_join(case_dir, e->d_name);
+        tdir_remove_tree(p);
+        free(p);
+        n++;
+        if (off < len) off += (size_t)snprintf(names + off, len - off, "%s%s", off ? " " : "", e->d_name);
+    }
+    closedir(d);
+    return n;
 }

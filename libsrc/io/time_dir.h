@@ -18,6 +18,11 @@
  * truncated if it does not fit in len bytes (32 always suffice). */
 void tdir_name(double t, int precision, char *buf, size_t len);
 
+/* The smallest precision p >= `precision` (at most 17) whose name of t
+ * reads back within `resolution` of t (a name that is true: 0.016 is not
+ * "0.02"); the name goes to buf and p is returned. */
+int tdir_name_within(double t, int precision, double resolution, char *buf, size_t len);
+
 /* Time directories of a case, sorted by time ascending (ties by name). */
 typedef struct tdir_list {
     size_t n;
@@ -33,6 +38,15 @@ typedef struct tdir_list {
 int tdir_list_read(const char *case_dir, const char *complete_marker, tdir_list *out,
                    sl_err *err);
 void tdir_list_free(tdir_list *l);
+
+/* rm -r of a file or folder (symbolic links are removed, never followed). */
+void tdir_remove_tree(const char *path);
+
+/* Temporaries "<name>.tmp.<pid>" (folders and files) in case_dir whose
+ * writer, process <pid> of this machine, no longer runs: a run killed while
+ * writing leaves them.  Removes them, lists their names (space-separated,
+ * cut to fit) in `names` and returns how many there were. */
+size_t tdir_remove_stale(const char *case_dir, char *names, size_t len);
 
 /* mkdir -p (mode 0777 before umask); returns 0, or nonzero with err filled
  * ("cannot create '<path>': <reason>"). */

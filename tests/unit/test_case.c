@@ -14,6 +14,7 @@
 
 #include "case/case.h"
 #include "core/sl_log.h"
+#include "hostile_table.h"
 
 static const char *bin_dir(void)
 {
@@ -144,6 +145,10 @@ static void test_bad_input_table(void **state)
                      b->replace ? b->replace : b->append, rc, msg);
         snprintf(cmd, sizeof cmd, "test ! -e %s/0 && test ! -e %s/fluid.pvd", dir, dir);
         assert_int_equal(system(cmd), 0);
+        char input[512];
+        snprintf(input, sizeof input, "%s%s", b->replace ? "whole file: " : "",
+                 b->replace ? b->replace : b->append);
+        hostile_record(b->file, input, msg);
     }
 }
 

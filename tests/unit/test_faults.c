@@ -15,7 +15,16 @@
  *     directories and fluid.pvd intact.  Mounting needs `unshare -m` as
  *     root; where that is impossible these tests are skipped with a note;
  *   - hostile input: each stops with a message naming the file (and key)
- *     and writes nothing, within a time limit.
+ *     and writes nothing, within a time limit;
+ *   - a second solver in a running case is refused, naming the first one's
+ *     pid, and the lock dies with the first one (kill -9 included);
+ *   - the per-step record reaches the disk within about a second, so that
+ *     kill -9 loses at most that;
+ *   - temporaries "*.tmp.<pid>" of dead runs are removed, with a message;
+ *   - a damaged restart file is reported as damaged, naming the time
+ *     directory and what to do; listTimes -check marks it;
+ *   - a run stopped by a signal says how to resume, and Allrun -resume
+ *     continues it.
  * Time directories are read back as check_run.py lines (time=... nan=...). */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -34,6 +43,8 @@
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
+
+#include "hostile_table.h"
 
 static const char *bin_dir(void)
 {
@@ -656,11 +667,238 @@ static void test_hostile_input(void **state)
                         "and '%s'; got: %.400s\n",
                         h->what, rc, took, wrote ? ", output written" : "", h->expect1, h->expect2,
                         msg[0] ? msg : "(nothing)\n");
+        } else {
+            char cls[128];
+            hostile_record(hostile_class_of(msg, dir, cls, sizeof cls), h->what, msg);
         }
     }
     print_message("%d hostile inputs, %d not handled%s\n", ran, failures,
                   asan ? " (memory-hungry ones left out under ASan)" : "");
     assert_int_equal(failures, 0);
+}
+
+
+/* ---- one solver per case, the record, temporaries, damaged restarts ---- */
+
+/* Item 3: a second solver in a running case stops at once, naming the
+ * first one's pid; once the first is killed (even with SIGKILL), the lock
+ * is gone and the case runs again. */
+static void test_second_solver_refused(void **state)
+{
+    (void)state;
+    const char *name = "faults_lock";
+    make_case(name, NULL);
+    set_key(name, "system/controlDict", "endTime", "5");
+    set_key(name, "system/controlDict", "writeInterval", "0.02");
+    pid_t pid = spawn(name);
+    assert_true(wait_file(pid, name, "0/fluid.vtu", 300));
+    double t0 = now();
+    int rc = sh("timeout -s KILL 60 %s/pcisph -case tests/output/%s -quiet > tests/output/%s.second "
+                "2>&1", bin_dir(), name, name);
+    double took = now() - t0;
+    char path[256], want[64];
+    snprintf(path, sizeof path, "tests/output/%s.second", name);
+    const char *text = slurp(path);
+    snprintf(want, sizeof want, "pid %ld ", (long)pid);
+    print_message("second solver: exit %d after %.2f s: %s", rc, took, text);
+    assert_true(rc != 0 && rc != 137);
+    assert_non_null(strstr(text, "Error:"));
+    assert_non_null(strstr(text, want));
+    assert_true(took < 30);
+    assert_int_equal(waitpid(pid, NULL, WNOHANG), 0); /* the first one runs on */
+    hostile_record("second solver in a running case", "pcisph -case <case> while one runs there",
+                   text);
+    kill(pid, SIGKILL);
+    wait_end(pid, 60);
+    set_key(name, "system/controlDict", "endTime", "0.04");
+    assert_int_equal(sh("timeout -s KILL 300 %s/pcisph -case tests/output/%s -quiet > /dev/null "
+                        "2>&1", bin_dir(), name), 0);
+}
+
+/* Rows of a record file (lines not starting with '#'). */
+static int record_rows(const char *path)
+{
+    char line[4096];
+    int n = 0;
+    FILE *f = fopen(path, "r");
+    if (!f) return -1;
+    while (fgets(line, sizeof line, f)) n += line[0] != '#' && line[0] != '\n';
+    fclose(f);
+    return n;
+}
+
+/* Lines of the log that are steps ("Time = "). */
+static int step_lines(const char *path)
+{
+    const char *text = slurp(path);
+    int n = 0;
+    for (const char *at = text; (at = strstr(at, "\nTime = ")); at++) n++;
+    return n;
+}
+
+/* Item 4: slow steps (300 iterations each): the record holds rows within
+ * about a second, long before its buffer fills, and kill -9 keeps them. */
+static void test_record_flushed(void **state)
+{
+    (void)state;
+    const char *name = "faults_flush";
+    char edit[512];
+    int iterations = sanitized() ? 30 : 300; /* the sanitizers slow every step anyway */
+    snprintf(edit, sizeof edit, "sed -i 's/^minIterations .*//; s/^maxIterations .*//' "
+             "constant/fluidProperties && printf 'minIterations %d;\\nmaxIterations %d;\\n' >> "
+             "constant/fluidProperties", iterations, iterations);
+    make_case(name, edit);
+    set_key(name, "system/controlDict", "numberOfThreads", "1");
+    set_key(name, "system/controlDict", "endTime", "5");
+    set_key(name, "system/controlDict", "writeInterval", "5");
+    pid_t pid = spawn(name);
+    char log[256], rec[256];
+    snprintf(log, sizeof log, "tests/output/%s.log", name);
+    snprintf(rec, sizeof rec, "tests/output/%s/postProcessing/timeStep/0/timeStep.dat", name);
+    double t0 = now();
+    while (step_lines(log) < 2 && now() - t0 < 600) sleep_s(0.05);
+    sleep_s(2.5);
+    int steps = step_lines(log), rows = record_rows(rec);
+    kill(pid, SIGKILL);
+    wait_end(pid, 60);
+    int after = record_rows(rec);
+    print_message("after %d logged steps (2.5 s after the second): %d rows on disk, %d after "
+                  "kill -9\n", steps, rows, after);
+    assert_true(steps >= 2);
+    assert_true(rows >= 1 && after >= rows);
+    assert_true(rows >= steps / 3); /* at most ~1 s of 2.5 s missing */
+}
+
+/* Item 5: temporaries of dead runs go, with a message; one of a live
+ * process stays. */
+static void test_stale_temporaries_removed(void **state)
+{
+    (void)state;
+    const char *name = "faults_stale";
+    char live[64];
+    snprintf(live, sizeof live, "0.5.tmp.%ld", (long)getpid());
+    make_case(name, NULL);
+    set_key(name, "system/controlDict", "endTime", "0.01");
+    set_key(name, "system/controlDict", "writeInterval", "0.01");
+    assert_int_equal(sh("cd tests/output/%s && mkdir -p 0.04.tmp.999999999/uniform %s && "
+                        "echo x > 0.04.tmp.999999999/fluid.vtu && echo y > fluid.pvd.tmp.999999998",
+                        name, live), 0);
+    assert_int_equal(sh("%s/pcisph -case tests/output/%s -quiet > tests/output/%s.log 2>&1",
+                        bin_dir(), name, name), 0);
+    char log[256];
+    snprintf(log, sizeof log, "tests/output/%s.log", name);
+    const char *text = slurp(log);
+    print_message("%s", strstr(text, "Warning:") ? strstr(text, "Warning:") : "no warning\n");
+    assert_non_null(strstr(text, "0.04.tmp.999999999"));
+    assert_non_null(strstr(text, "fluid.pvd.tmp.999999998"));
+    assert_int_equal(sh("cd tests/output/%s && test ! -e 0.04.tmp.999999999 && "
+                        "test ! -e fluid.pvd.tmp.999999998 && test -d %s", name, live), 0);
+}
+
+/* Item 12: a restart file with 100 bytes flipped is "damaged", and the
+ * message names the time directory and what to do; listTimes -check
+ * marks it. */
+static void test_damaged_restart(void **state)
+{
+    (void)state;
+    const char *name = "faults_damaged";
+    make_case(name, NULL);
+    set_key(name, "system/controlDict", "endTime", "0.04");
+    set_key(name, "system/controlDict", "writeInterval", "0.02");
+    assert_int_equal(sh("%s/pcisph -case tests/output/%s -quiet > /dev/null 2>&1", bin_dir(), name), 0);
+    /* 100 bytes from the middle of the file, each inverted */
+    char path[256];
+    snprintf(path, sizeof path, "tests/output/%s/0.04/uniform/restart", name);
+    FILE *f = fopen(path, "r+b");
+    assert_non_null(f);
+    fseek(f, 0, SEEK_END);
+    long size = ftell(f), at = size / 2;
+    unsigned char buf[100];
+    fseek(f, at, SEEK_SET);
+    assert_int_equal(fread(buf, 1, 100, f), 100);
+    for (int i = 0; i < 100; i++) buf[i] = (unsigned char)~buf[i];
+    fseek(f, at, SEEK_SET);
+    assert_int_equal(fwrite(buf, 1, 100, f), 100);
+    fclose(f);
+    set_key(name, "system/controlDict", "startFrom", "latestTime");
+    set_key(name, "system/controlDict", "endTime", "0.06");
+    int rc = sh("%s/pcisph -case tests/output/%s -quiet > tests/output/%s.log 2>&1", bin_dir(),
+                name, name);
+    char log[256];
+    snprintf(log, sizeof log, "tests/output/%s.log", name);
+    const char *text = slurp(log);
+    print_message("damaged restart: exit %d, %s", rc, text);
+    assert_true(rc != 0);
+    assert_non_null(strstr(text, "damaged"));
+    assert_non_null(strstr(text, "time directory 0.04"));
+    assert_non_null(strstr(text, "restart from 0.02"));
+    assert_null(strstr(text, "not a restart file"));
+    hostile_record("restart file", "uniform/restart with 100 bytes flipped (startFrom latestTime)",
+                   text);
+    rc = sh("%s/listTimes -case tests/output/%s -check > tests/output/%s.list 2>&1", bin_dir(),
+            name, name);
+    snprintf(log, sizeof log, "tests/output/%s.list", name);
+    text = slurp(log);
+    print_message("listTimes -check: exit %d\n%s", rc, text);
+    assert_true(rc != 0);
+    assert_non_null(strstr(text, "0.02\n"));
+    assert_non_null(strstr(text, "0.04  damaged"));
+}
+
+/* Item 19: a run stopped by a signal names the command that resumes it,
+ * and a tutorial's Allrun -resume continues it (a plain Allrun refuses,
+ * naming -resume). */
+static void test_resume_after_stop(void **state)
+{
+    (void)state;
+    const char *name = "faults_resume";
+    assert_int_equal(sh("rm -rf tests/output/%s && cp -r tutorials/hydrostaticTank tests/output/%s && "
+                        "cd tests/output/%s && sed -i 's/^endTime .*/endTime 5;/; "
+                        "s/^writeInterval .*/writeInterval 0.02;/' system/controlDict",
+                        name, name, name), 0);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        char dir[256], top[4096];
+        snprintf(dir, sizeof dir, "tests/output/%s/Allrun", name);
+        if (getcwd(top, sizeof top)) setenv("SLUICE_DIR", top, 1);
+        int fd = open("/dev/null", O_WRONLY);
+        if (fd >= 0) dup2(fd, 1);
+        execl("/bin/sh", "sh", dir, (char *)NULL);
+        _exit(127);
+    }
+    assert_true(wait_file(pid, name, "0.02/fluid.vtu", 300));
+    /* the solver is the Allrun's child: Ctrl-C reaches it */
+    char kids[256];
+    snprintf(kids, sizeof kids, "/proc/%ld/task/%ld/children", (long)pid, (long)pid);
+    long child = atol(slurp(kids));
+    assert_true(child > 0);
+    kill((pid_t)child, SIGINT);
+    int status = wait_end(pid, 120);
+    char log[256];
+    snprintf(log, sizeof log, "tests/output/%s/log.pcisph", name);
+    const char *text = slurp(log);
+    assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    const char *msg = strstr(text, "Stopped by a signal");
+    assert_non_null(msg);
+    assert_non_null(strstr(msg, "Allrun -resume"));
+    assert_non_null(strstr(msg, "-resume"));
+    /* a plain Allrun refuses and names -resume */
+    int rc = sh("cd tests/output/%s && SLUICE_DIR=$OLDPWD ./Allrun > ../%s.again 2>&1", name, name);
+    snprintf(log, sizeof log, "tests/output/%s.again", name);
+    assert_true(rc != 0);
+    assert_non_null(strstr(slurp(log), "-resume"));
+    /* Allrun -resume continues to the (shortened) end */
+    assert_int_equal(sh("cd tests/output/%s && sed -i 's/^endTime .*/endTime 0.06;/' "
+                        "system/controlDict && SLUICE_DIR=$OLDPWD ./Allrun -resume > /dev/null 2>&1",
+                        name), 0);
+    snprintf(log, sizeof log, "tests/output/%s/log.pcisph", name);
+    text = slurp(log);
+    assert_non_null(strstr(text, "Stopped by a signal")); /* appended to, not replaced */
+    assert_non_null(strstr(text, "Restarting from"));
+    char dir[256];
+    snprintf(dir, sizeof dir, "tests/output/%s/0.06/fluid.vtu", name);
+    assert_true(exists(dir));
 }
 
 /* Usable input in unusual encodings: a UTF-8 byte-order mark and Windows
@@ -691,6 +929,11 @@ int main(void)
         cmocka_unit_test(test_disk_full),
         cmocka_unit_test(test_read_only_case),
         cmocka_unit_test(test_hostile_input),
+        cmocka_unit_test(test_second_solver_refused),
+        cmocka_unit_test(test_record_flushed),
+        cmocka_unit_test(test_stale_temporaries_removed),
+        cmocka_unit_test(test_damaged_restart),
+        cmocka_unit_test(test_resume_after_stop),
         cmocka_unit_test(test_bom_and_crlf_accepted),
     };
     return cmocka_run_group_tests_name("faults", tests, NULL, NULL);

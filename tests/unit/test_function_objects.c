@@ -19,6 +19,15 @@
  *    boundary.vtu (relative 1e-8: the files hold 10 digits); postProcess on
  *    the written times reproduces the run's rows; densityError writes its
  *    .dat and .png; a restart opens a new start-time folder.
+ *  - Runs, restarts and the End summary (tests/cases copies under
+ *    tests/output/functionObjects/runs/, one thread): a restart at an
+ *    awkward time (writeInterval 0.0017, from 0.0187) and one right before
+ *    a shock (which goes back past the restart time) give VTK files byte
+ *    for byte equal to an uninterrupted run's; with writeControl runTime a
+ *    shorter run is the exact start of a longer one with another write
+ *    interval; the state at endTime is always written; time names are
+ *    unique and true (precision raised); the End summary counts this
+ *    session and the whole run, the steps taken and why iterations stopped.
  *  - A 0.5 s hydrostatic run: the probe pressure at depth 0.3 m, averaged
  *    over 0.25..0.5 s, is within 10 % of rho0 g (H - z), and the gauge reads
  *    the column height H within r0/2.
@@ -41,9 +50,11 @@
 
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
+#include "hostile_table.h"
 #include "dictionary/dict.h"
 #include "functionObjects/fo.h"
 #include "functionObjects/fo_query.h"
+#include "io/time_dir.h"
 #include "io/vtk_reader.h"
 #include "io/vtk_writer.h"
 #include "kernel/kernel.h"
@@ -849,6 +860,7 @@ static void test_fo_errors(void **state)
         if (rc == 0 || !strstr(text, bad[k].expect) || (bad[k].line && !strstr(text, where)))
             fail_msg("entry '%s': exit %d, expected '%s%s' in:\n%s", bad[k].entry, rc,
                      bad[k].line ? where : "", bad[k].expect, text);
+        hostile_record("system/controlDict functions", bad[k].entry, text);
         free(text);
         /* the solver stops on it too, before writing anything */
         rc = sh("%s/pcisph -case " OUT "/bad -quiet > " OUT "/bad/log 2>&1", bin_dir());
@@ -1184,6 +1196,322 @@ static void test_run_short(void **state)
     dat_free(&en);
 }
 
+
+/* ======================================================================
+ * Runs, restarts and the End summary
+ * ====================================================================== */
+
+#define RUNS OUT "/runs"
+
+/* RUNS/<name>: a copy of tests/cases/<src>, the shell `edit` run in it. */
+static void run_copy(const char *src, const char *name, const char *edit)
+{
+    assert_int_equal(sh("rm -rf " RUNS "/%s && mkdir -p " RUNS " && cp -r tests/cases/%s " RUNS
+                        "/%s && cd " RUNS "/%s && %s", name, src, name, name, edit), 0);
+}
+
+/* Set `key value;` in system/controlDict of RUNS/<name>. */
+static void control(const char *name, const char *key, const char *value)
+{
+    assert_int_equal(sh("cd " RUNS "/%s && (grep -v '^%s ' system/controlDict; echo '%s %s;') > "
+                        "c.new && mv c.new system/controlDict", name, key, key, value), 0);
+}
+
+/* Run the solver (one thread) on RUNS/<name>; its output goes to
+ * RUNS/<name>.<log>.log and is returned (free it). */
+static char *solve(const char *name, const char *args, const char *log)
+{
+    int rc = sh("OMP_NUM_THREADS=1 %s/pcisph -case " RUNS "/%s -quiet %s > " RUNS "/%s.%s.log 2>&1",
+                bin_dir(), name, args, name, log);
+    char path[512];
+    snprintf(path, sizeof path, RUNS "/%s.%s.log", name, log);
+    char *text = slurp(path, NULL);
+    if (rc != 0) fail_msg("pcisph on %s %s: exit %d:\n%s", name, args, rc, text);
+    return text;
+}
+
+static int same_bytes(const char *a, const char *b)
+{
+    return sh("cmp -s %s %s", a, b) == 0;
+}
+
+/* Every time directory of RUNS/<a> from time `from` on is in RUNS/<b>
+ * under the same name with the same fluid.vtu and boundary.vtu, byte for
+ * byte; returns how many were compared. */
+static int compare_from(const char *a, const char *b, double from)
+{
+    char path[512];
+    snprintf(path, sizeof path, RUNS "/%s", a);
+    tdir_list l;
+    sl_err err;
+    if (tdir_list_read(path, "fluid.vtu", &l, &err)) fail_msg("%s", err.msg);
+    int n = 0;
+    for (size_t i = 0; i < l.n; i++) {
+        if (l.time[i] < from - 1e-12) continue;
+        for (int k = 0; k < 2; k++) {
+            char pa[512], pb[512];
+            const char *file = k ? "boundary.vtu" : "fluid.vtu";
+            snprintf(pa, sizeof pa, RUNS "/%s/%s/%s", a, l.name[i], file);
+            snprintf(pb, sizeof pb, RUNS "/%s/%s/%s", b, l.name[i], file);
+            if (!exists(pb)) fail_msg("%s has no %s/%s", b, l.name[i], file);
+            if (!same_bytes(pa, pb)) fail_msg("%s differs between %s and %s", pb, a, b);
+        }
+        n++;
+    }
+    tdir_list_free(&l);
+    return n;
+}
+
+/* The number after `key` in text (the first one); fails if absent. */
+static double number_after(const char *text, const char *key)
+{
+    const char *at = strstr(text, key);
+    if (!at) fail_msg("no '%s' in:\n%s", key, text);
+    return strtod(at + strlen(key), NULL);
+}
+
+/* Item 6: a restart at an awkward time with an awkward write interval
+ * continues bit-identically; item 7: the End summary after it counts this
+ * session and the whole run apart. */
+static void test_restart_awkward_time(void **state)
+{
+    (void)state;
+    const char *adaptive = "printf 'mode adaptive;\\ndeltaT 0;\\n' > system/timeStepDict";
+    run_copy("damBreakShort", "awkwardA", adaptive);
+    control("awkwardA", "writeInterval", "0.0017");
+    control("awkwardA", "endTime", "0.0306");
+    run_copy("damBreakShort", "awkwardB", adaptive);
+    control("awkwardB", "writeInterval", "0.0017");
+    control("awkwardB", "endTime", "0.0187");
+    char *a = solve("awkwardA", "", "run"), *b = solve("awkwardB", "", "run");
+    control("awkwardB", "endTime", "0.0306");
+    control("awkwardB", "startFrom", "latestTime");
+    char *c = solve("awkwardB", "", "restart");
+    assert_non_null(strstr(c, "Restarting from"));
+    int n = compare_from("awkwardA", "awkwardB", 0.0187);
+    print_message("restart from 0.0187 (writeInterval 0.0017): %d time directories equal\n", n);
+    assert_true(n >= 7);
+    /* the summaries: steps and mean iterations of each part */
+    double all = number_after(a, "End: "), first = number_after(b, "End: ");
+    double session = number_after(c, "End: this session: ");
+    double whole = number_after(c, "  whole run: ");
+    print_message("steps: uninterrupted %g, first part %g, restart session %g, whole run %g\n", all,
+                  first, session, whole);
+    assert_true(whole == all && session == all - first);
+    const char *line = strstr(c, "End: this session: ");
+    assert_close(number_after(line, "mean iterations "), 3.0, 0); /* adaptive: 3 per step */
+    assert_close(number_after(strstr(c, "  whole run: "), "mean iterations "), 3.0, 0);
+    free(a);
+    free(b);
+    free(c);
+}
+
+/* Item 6: restarted right before a shock, the run goes back past the
+ * restart time as the uninterrupted one does: the restart file keeps the
+ * state at the start of the step before. */
+static void test_restart_before_shock(void **state)
+{
+    (void)state;
+    if (quick()) skip();
+    /* a write time right before a shock step (the step after the write
+     * shocks and goes back two steps, past the write): the case's own
+     * schedule first, then writes every 0.005 s (every other step) */
+    static const double intervals[] = {0.05, 0.005};
+    double w = -1, wi = 0;
+    for (int i = 0; i < 2 && w < 0; i++) {
+        char value[32];
+        wi = intervals[i];
+        snprintf(value, sizeof value, "%g", wi);
+        run_copy("highDrop", "shockA", "true");
+        control("shockA", "endTime", "0.85");
+        control("shockA", "writeInterval", value);
+        free(solve("shockA", "", "run"));
+        dat ts;
+        dat_read(RUNS "/shockA/postProcessing/timeStep/0/timeStep.dat", &ts);
+        for (int r = 2; r < ts.nrows && w < 0; r++) {
+            if (ts.v[r][7] != 1) continue;
+            double t = ts.v[r - 1][0], k = round(t / wi);
+            if (k > 0 && fabs(t - wi * k) < 1e-9) w = wi * k;
+        }
+        dat_free(&ts);
+    }
+    if (w < 0) fail_msg("highDrop has no shock right after a write time: the test needs one");
+    char end[32];
+    snprintf(end, sizeof end, "%.10g", w);
+    char value[32];
+    snprintf(value, sizeof value, "%g", wi);
+    run_copy("highDrop", "shockB", "true");
+    control("shockB", "writeInterval", value);
+    control("shockB", "endTime", end);
+    free(solve("shockB", "", "run"));
+    control("shockB", "endTime", "0.85");
+    control("shockB", "startFrom", "latestTime");
+    char *c = solve("shockB", "", "restart");
+    dat rb;
+    char path[256];
+    snprintf(path, sizeof path, RUNS "/shockB/postProcessing/timeStep/%s/timeStep.dat", end);
+    dat_read(path, &rb);
+    assert_true(rb.nrows > 2 && rb.v[0][7] == 1); /* the shock came, right away */
+    dat_free(&rb);
+    int n = compare_from("shockA", "shockB", w);
+    print_message("restart from %g, a shock in the next step: %d time directories equal\n", w, n);
+    assert_true(n >= 2);
+    free(c);
+}
+
+/* Item 16b: with writeControl runTime the steps do not depend on the write
+ * schedule: a run to 0.05 s writing every 0.01 s is the exact start of a
+ * run to 0.1 s writing every 0.02 s (item 1: it still ends at endTime). */
+static void test_run_time_prefix(void **state)
+{
+    (void)state;
+    const char *adaptive = "printf 'mode adaptive;\\ndeltaT 0;\\n' > system/timeStepDict";
+    run_copy("damBreakShort", "prefixA", adaptive);
+    control("prefixA", "writeControl", "runTime");
+    control("prefixA", "writeInterval", "0.01");
+    control("prefixA", "endTime", "0.05");
+    run_copy("damBreakShort", "prefixB", adaptive);
+    control("prefixB", "writeControl", "runTime");
+    control("prefixB", "writeInterval", "0.02");
+    control("prefixB", "endTime", "0.1");
+    free(solve("prefixA", "", "run"));
+    free(solve("prefixB", "", "run"));
+    assert_true(exists(RUNS "/prefixA/0.05/fluid.vtu")); /* endTime itself */
+    /* A's writes at the first steps past 0.02 and 0.04 are B's */
+    tdir_list l;
+    sl_err err;
+    assert_int_equal(tdir_list_read(RUNS "/prefixB", "fluid.vtu", &l, &err), 0);
+    int n = 0;
+    for (size_t i = 1; i < l.n && l.time[i] < 0.045; i++) {
+        char pa[256], pb[256];
+        snprintf(pa, sizeof pa, RUNS "/prefixA/%s/fluid.vtu", l.name[i]);
+        snprintf(pb, sizeof pb, RUNS "/prefixB/%s/fluid.vtu", l.name[i]);
+        if (!exists(pa)) fail_msg("prefixA has no %s (prefixB writes there)", l.name[i]);
+        if (!same_bytes(pa, pb)) fail_msg("%s differs between the two runs", l.name[i]);
+        assert_true(l.time[i] > 0.02 * (double)i - 1e-12); /* at or past the write time */
+        n++;
+    }
+    tdir_list_free(&l);
+    assert_int_equal(n, 2);
+    /* the steps themselves: every row of A but the last two is B's */
+    dat a, b;
+    dat_read(RUNS "/prefixA/postProcessing/timeStep/0/timeStep.dat", &a);
+    dat_read(RUNS "/prefixB/postProcessing/timeStep/0/timeStep.dat", &b);
+    assert_true(a.nrows > 10 && b.nrows > a.nrows);
+    for (int r = 0; r + 2 < a.nrows; r++)
+        for (int k = 0; k < a.ncols; k++)
+            if (k != dat_col(&a, "wallTime") && a.v[r][k] != b.v[r][k])
+                fail_msg("row %d column %s: %.17g against %.17g", r, a.col[k], a.v[r][k], b.v[r][k]);
+    dat_free(&a);
+    dat_free(&b);
+}
+
+/* Item 1: the state at endTime is written (with its restart file),
+ * whatever writeInterval says, in both write controls. */
+static void test_end_always_written(void **state)
+{
+    (void)state;
+    static const char *cases[][4] = {{"adjustableRunTime", "5", "0.01", "0.01"},
+                                     {"adjustableRunTime", "0.02", "0.03", "0.03"},
+                                     {"runTime", "0.02", "0.03", "0.03"}};
+    for (int k = 0; k < 3; k++) {
+        run_copy("hydrostaticTank", "endTime", "true");
+        control("endTime", "writeControl", cases[k][0]);
+        control("endTime", "writeInterval", cases[k][1]);
+        control("endTime", "endTime", cases[k][2]);
+        free(solve("endTime", "", "run"));
+        char path[256];
+        snprintf(path, sizeof path, RUNS "/endTime/%s/uniform/restart", cases[k][3]);
+        if (!exists(path))
+            fail_msg("writeControl %s, writeInterval %s, endTime %s: no %s", cases[k][0],
+                     cases[k][1], cases[k][2], path);
+        char *series = slurp(RUNS "/endTime/fluid.vtu.series", NULL);
+        snprintf(path, sizeof path, "\"%s/fluid.vtu\"", cases[k][3]);
+        assert_non_null(strstr(series, path));
+        free(series);
+    }
+}
+
+/* Item 2: timePrecision 1 cannot name 0.012 and 0.016 apart from 0.01
+ * and 0.02: the precision is raised with a warning, names are unique and
+ * read back as their times, and a restart names the right time. */
+static void test_time_names_unique_and_true(void **state)
+{
+    (void)state;
+    run_copy("hydrostaticTank", "names", "true");
+    control("names", "timePrecision", "1");
+    control("names", "writeInterval", "0.002");
+    control("names", "endTime", "0.016");
+    char *log = solve("names", "", "run");
+    assert_non_null(strstr(log, "Warning:"));
+    assert_non_null(strstr(log, "timePrecision"));
+    hostile_record("system/controlDict", "timePrecision 1; writeInterval 0.002; (0.012 and 0.01 "
+                   "would both be \"0.01\")", log);
+    tdir_list l;
+    sl_err err;
+    assert_int_equal(tdir_list_read(RUNS "/names", "fluid.vtu", &l, &err), 0);
+    assert_int_equal(l.n, 9);
+    for (size_t i = 0; i < l.n; i++) assert_close(l.time[i], 0.002 * (double)i, 1e-12);
+    tdir_list_free(&l);
+    char *series = slurp(RUNS "/names/fluid.vtu.series", NULL);
+    const char *first = strstr(series, "\"0.01/fluid.vtu\"");
+    assert_non_null(first);
+    assert_null(strstr(first + 1, "\"0.01/fluid.vtu\"")); /* listed once */
+    assert_non_null(strstr(series, "\"0.016/fluid.vtu\""));
+    free(series);
+    control("names", "endTime", "0.02");
+    control("names", "startFrom", "latestTime");
+    char *again = solve("names", "", "restart");
+    assert_non_null(strstr(again, "names/0.016 (t = 0.016"));
+    free(log);
+    free(again);
+}
+
+/* Items 8 and 16a: the End summary's deltaT min/max are the steps taken
+ * (a constant deltaT 1 cut to endTime 0.01 is a step of 0.01), and steps
+ * the divergence guard stopped are not counted as stopped at
+ * maxIterations. */
+static void test_summary_steps_taken(void **state)
+{
+    (void)state;
+    run_copy("hydrostaticTank", "cut", "printf 'mode constant;\\ndeltaT 1;\\n' > system/timeStepDict");
+    control("cut", "endTime", "0.01");
+    char *log = solve("cut", "", "run");
+    assert_close(number_after(log, "deltaT min "), 0.01, 1e-12);
+    assert_close(number_after(log, "s, max "), 0.01, 1e-12);
+    free(log);
+    if (quick()) return;
+    /* constant 0.004 s on the dam break: some steps end above eta, stopped
+     * by the guard well before maxIterations 50 */
+    run_copy("damBreakShort", "guard", "printf 'mode constant;\\ndeltaT 0.004;\\n' > "
+                                       "system/timeStepDict");
+    log = solve("guard", "", "run");
+    dat ts;
+    dat_read(RUNS "/guard/postProcessing/timeStep/0/timeStep.dat", &ts);
+    int at_max = 0, early = 0;
+    double lo = INFINITY, hi = 0;
+    for (int r = 0; r < ts.nrows; r++) {
+        double it = ts.v[r][dat_col(&ts, "iterations")], e = ts.v[r][dat_col(&ts, "rhoErrMax")];
+        lo = fmin(lo, ts.v[r][1]);
+        hi = fmax(hi, ts.v[r][1]);
+        if (e > 1.0 && it >= 50) at_max++;
+        else if (e > 1.0) early++;
+    }
+    dat_free(&ts);
+    print_message("constant 0.004 s: %d steps above eta before maxIterations, %d at it\n", early,
+                  at_max);
+    assert_true(early > 0);
+    char want[128];
+    snprintf(want, sizeof want, "  %d steps stopped at maxIterations", at_max);
+    if (at_max) assert_non_null(strstr(log, want));
+    else assert_null(strstr(log, "stopped at maxIterations"));
+    snprintf(want, sizeof want, "  %d steps stopped by the divergence guard", early);
+    if (!strstr(log, want)) fail_msg("no '%s' in:\n%s", want, log);
+    assert_close(number_after(log, "deltaT min "), lo, 1e-5); /* printed with 6 digits */
+    assert_close(number_after(log, "s, max "), hi, 1e-5);
+    free(log);
+}
+
 /* A 0.5 s hydrostatic run: probe pressure and gauge height. */
 static void test_run_hydrostatic(void **state)
 {
@@ -1225,6 +1553,12 @@ int main(void)
         cmocka_unit_test(test_fo_query_grid),   cmocka_unit_test(test_fo_read),
         cmocka_unit_test(test_fo_rows),         cmocka_unit_test(test_fo_errors),
         cmocka_unit_test(test_run_short),       cmocka_unit_test(test_run_hydrostatic),
+        cmocka_unit_test(test_restart_awkward_time),
+        cmocka_unit_test(test_restart_before_shock),
+        cmocka_unit_test(test_run_time_prefix),
+        cmocka_unit_test(test_end_always_written),
+        cmocka_unit_test(test_time_names_unique_and_true),
+        cmocka_unit_test(test_summary_steps_taken),
     };
     return cmocka_run_group_tests_name("function objects", tests, NULL, NULL);
 }

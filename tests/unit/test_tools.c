@@ -11,6 +11,9 @@
 
 #include "tool_run.h"
 
+#include "core/sl_progress.h"
+
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -367,6 +370,9 @@ static void test_sweep_runs_the_solver(void **state)
     assert_int_equal(tool("sweepCase", "-jobs 2 " OUT "/sweepRun/sweepDict", bin_dir()), 0);
     assert_non_null(strstr(output, "eta_0.1: finished"));
     assert_non_null(strstr(output, "eta_1: finished"));
+    /* item 17: progress, n of N and the time left */
+    assert_non_null(strstr(output, "1 of 2 done, about "));
+    assert_non_null(strstr(output, "2 of 2 done, all in "));
     char *csv = slurp(OUT "/sweepRun/results.csv");
     assert_non_null(strstr(csv, "eta_0.1,0.1,finished,"));
     assert_non_null(strstr(csv, "eta_1,1,finished,"));
@@ -544,6 +550,196 @@ static void test_plot_sweep_where_errors(void **state)
     assert_string_equal(output, ". .. negative.csv results.csv ");
 }
 
+
+
+/* Item 21: make demo says what it runs, where its log is, shows progress
+ * with the time left, and where to look at the result (shortened here to
+ * 0.004 s of simulated time, progress lines every 0.1 s). */
+static void test_demo_says_what_and_where(void **state)
+{
+    (void)state;
+    assert_int_equal(run("SLUICE_DEMO_DIR=$PWD/" OUT "/demo SLUICE_DEMO_END=0.004 SLUICE_PROGRESS=plain "
+                         "SLUICE_PROGRESS_PERIOD=0.1 OMP_NUM_THREADS=1 etc/runDemo"), 0);
+    assert_non_null(strstr(output, "damBreak tutorial"));
+    assert_non_null(strstr(output, "24k fluid particles, 0.004 s of simulated time, adaptive time step, one thread"));
+    assert_non_null(strstr(output, "Per-step log: "));
+    assert_non_null(strstr(output, OUT "/demo/log.pcisph"));
+    const char *p = strstr(output, "Progress: t = ");
+    if (!p) fail_msg("no progress line in:\n%s", output);
+    assert_non_null(strstr(p, "ETA"));
+    assert_non_null(strstr(output, OUT "/demo/fluid.pvd"));
+}
+
+
+/* core/sl_progress: durations as people read them, the time left from the
+ * rate, a rate smoothed over wall time, and no line before one is due. */
+static void test_progress_module(void **state)
+{
+    (void)state;
+    char buf[64];
+    sl_progress_duration(45.2, buf, sizeof buf);
+    assert_string_equal(buf, "45 s");
+    sl_progress_duration(185, buf, sizeof buf);
+    assert_string_equal(buf, "3 min 05 s");
+    sl_progress_duration(7620, buf, sizeof buf);
+    assert_string_equal(buf, "2 h 07 min");
+    sl_progress_duration(-1, buf, sizeof buf);
+    assert_string_equal(buf, "?");
+    FILE *f = tmpfile();
+    assert_non_null(f);
+    setenv("SLUICE_PROGRESS", "plain", 1);
+    setenv("SLUICE_PROGRESS_PERIOD", "1000", 1);
+    sl_progress p;
+    sl_progress_start(&p, f, 0.5, 1.5, 10);
+    assert_true(sl_progress_eta(&p, 0.5) < 0); /* not known yet */
+    p.rate = 0.25;                             /* 0.25 per second */
+    assert_true(fabs(sl_progress_eta(&p, 1.0) - 2.0) < 1e-12);
+    sl_progress_text(&p, 1.0, "t = 1", buf, sizeof buf);
+    assert_non_null(strstr(buf, "t = 1   50.0 %"));
+    assert_non_null(strstr(buf, "ETA 2 s"));
+    sl_progress_update(&p, 1.0, "t = 1"); /* plain lines every 1000 s: none yet */
+    assert_int_equal(ftell(f), 0);
+    fclose(f);
+    unsetenv("SLUICE_PROGRESS");
+    unsetenv("SLUICE_PROGRESS_PERIOD");
+}
+
+/* ---- monitoring after a restart, units on axes ------------------------------------ */
+
+/* A case whose record has two sessions: the first run to 0.5 s, then a
+ * restart from 0.3 s (the first run's rows after 0.3 are replaced). */
+static void write_two_sessions(const char *dir)
+{
+    fresh(dir);
+    assert_int_equal(run("mkdir -p %s/system %s/postProcessing/timeStep/0 "
+                         "%s/postProcessing/timeStep/0.3 && echo 'endTime 1;' > "
+                         "%s/system/controlDict", dir, dir, dir, dir), 0);
+    const char *head = "# Time\tdeltaT\titerations\trhoErrAvg\trhoErrMax\tvMax\tFMax\tshock\t"
+                       "wallTime\tcontrollerDeltaT\tvolErrAvg\tvolErrMax\n";
+    char text[2048], path[512];
+    snprintf(text, sizeof text, "%s0.1\t0.1\t3\t0.1\t1\t1\t1\t0\t1\t0.1\t0.1\t1\n"
+             "0.2\t0.1\t3\t0.2\t1\t1\t1\t0\t1\t0.1\t0.2\t1\n0.3\t0.1\t3\t0.3\t1\t1\t1\t0\t1\t0.1\t0.3\t1\n"
+             "0.4\t0.1\t3\t9\t1\t1\t1\t0\t1\t0.1\t9\t1\n0.5\t0.1\t3\t9\t1\t1\t1\t0\t1\t0.1\t9\t1\n", head);
+    snprintf(path, sizeof path, "%s/postProcessing/timeStep/0/timeStep.dat", dir);
+    spit(path, text);
+    snprintf(text, sizeof text, "%s0.4\t0.1\t3\t0.4\t1\t1\t1\t0\t1\t0.1\t0.4\t1\n"
+             "0.5\t0.1\t3\t0.5\t1\t1\t1\t0\t1\t0.1\t0.5\t1\n0.6\t0.1\t3\t0.6\t1\t1\t1\t0\t1\t0.1\t0.6\t1\n",
+             head);
+    snprintf(path, sizeof path, "%s/postProcessing/timeStep/0.3/timeStep.dat", dir);
+    spit(path, text);
+}
+
+/* Item 18: monitorCase, plotTimeStep and sweepCase read every session of
+ * the record in time order, not only postProcessing/timeStep/0. */
+static void test_monitor_after_restart(void **state)
+{
+    (void)state;
+    write_two_sessions(OUT "/twoSessions");
+    assert_int_equal(tool("monitorCase", "-case " OUT "/twoSessions -print", bin_dir()), 0);
+    /* times 0.1..0.6 once each, rhoErrAvg from the session that ran them */
+    const char *at = output;
+    for (int k = 1; k <= 6; k++) {
+        char row[64];
+        snprintf(row, sizeof row, "\n0.%d\t", k);
+        at = strstr(at, row);
+        if (!at) fail_msg("no row for t = 0.%d in order:\n%s", k, output);
+        const char *tab = at ? strchr(at + 1, '\t') : NULL;
+        assert_non_null(tab);
+        assert_true(strtod(tab + 1, NULL) == 0.1); /* deltaT column */
+    }
+    assert_null(strstr(output, "\t9\t")); /* the replaced rows */
+    if (run("command -v gnuplot") != 0) {
+        skip();
+        return;
+    }
+    assert_int_equal(run("SLUICE_BIN=%s etc/plotTimeStep " OUT "/twoSessions", bin_dir()), 0);
+    char *png = slurp(OUT "/twoSessions/postProcessing/timeStep/timeStep.png");
+    assert_memory_equal(png, "\x89PNG", 4);
+    free(png);
+    /* the terminal plot names both folders and the case, not "." */
+    assert_int_equal(run("cd " OUT "/twoSessions && %s/monitorCase -once", bin_dir()), 0);
+    assert_non_null(strstr(output, "twoSessions: postProcessing/timeStep/{0,0.3}/timeStep.dat"));
+}
+
+/* Item 20: axes carry units, and x tick labels are distinct (not every one
+ * "0.0" in the terminal). */
+static void test_plot_units(void **state)
+{
+    (void)state;
+    if (run("command -v gnuplot") != 0) {
+        skip();
+        return;
+    }
+    write_two_sessions(OUT "/units");
+    assert_int_equal(tool("monitorCase", "-case " OUT "/units -once", bin_dir()), 0);
+    assert_non_null(strstr(output, "Time [s]"));
+    assert_non_null(strstr(output, "deltaT [s]"));
+    assert_non_null(strstr(output, "rhoErrAvg [%]"));
+    assert_non_null(strstr(output, "vMax [m/s]"));
+    assert_non_null(strstr(output, " 0.2 ") ? strstr(output, " 0.4 ") : NULL);
+    fresh(OUT "/unitsSweep");
+    spit(OUT "/unitsSweep/results.csv", "case,eta,wallTime,maxRhoErrAvg\na,0.5,10,0.2\nb,1,5,0.4\n");
+    assert_int_equal(tool("plotSweep", "-dumb " OUT "/unitsSweep/results.csv wallTime maxRhoErrAvg",
+                          bin_dir()), 0);
+    assert_non_null(strstr(output, "wallTime [s]"));
+    assert_non_null(strstr(output, "maxRhoErrAvg [%]"));
+}
+
+/* ---- tests/run_tests and the table of refused inputs --------------------------- */
+
+/* A fake test program: prints what cmocka prints for `pass` passed, `skip`
+ * skipped and `fail` failed tests, and records one refused input. */
+static void fake_program(const char *path, int pass, int skip, int fail)
+{
+    char text[2048];
+    snprintf(text, sizeof text,
+             "#!/bin/sh\n"
+             "printf 'fake input\\t%s input\\tError: tests/output/x_%s/system/controlDict:3: bad | pipe\\n' "
+             ">> \"$SLUICE_HOSTILE_TSV\"\n"
+             "echo '[==========] Running %d test(s).'\n"
+             "echo '[  PASSED  ] %d test(s).'\n"
+             "%s%s"
+             "exit %d\n",
+             path + strlen(path) - 1, path + strlen(path) - 1, pass + skip + fail, pass,
+             skip ? "echo '[  SKIPPED ] 1 test(s), listed below:'\n" : "",
+             fail ? "echo '[  FAILED  ] 1 test(s), listed below:'\n" : "", fail ? 1 : 0);
+    spit(path, text);
+    assert_int_equal(chmod(path, 0755), 0);
+}
+
+/* run_tests names each program before its output, counts skipped tests
+ * apart from passed ones ("N passed, N failed, N skipped"), and after a
+ * passing full run turns the recorded rows into the Markdown table. */
+static void test_run_tests_names_and_skips(void **state)
+{
+    (void)state;
+    fresh(OUT "/runtests/build/tests");
+    fake_program(OUT "/runtests/build/tests/test_a", 2, 1, 0);
+    fake_program(OUT "/runtests/build/tests/test_b", 3, 0, 0);
+    int rc = run("SLUICE_HOSTILE_TSV=$PWD/" OUT "/runtests/rows.tsv SLUICE_HOSTILE_DOC=$PWD/" OUT
+                 "/runtests/table.md tests/run_tests " OUT "/runtests/build %s", bin_dir());
+    assert_int_equal(rc, 0);
+    const char *a = strstr(output, "==> test_a (1 of 2"), *b = strstr(output, "==> test_b (2 of 2");
+    assert_non_null(a);
+    assert_non_null(b);
+    assert_true(a < strstr(output, "Running 3 test(s)") && b > a);
+    assert_non_null(strstr(output, "<== test_a: 2 passed, 0 failed, 1 skipped"));
+    assert_non_null(strstr(output, "5 passed, 0 failed, 1 skipped\n"));
+    char *md = slurp(OUT "/runtests/table.md");
+    assert_non_null(strstr(md, "| fake input | `a input` | `Error: <case>/system/controlDict:3: bad \\| pipe` |"));
+    assert_non_null(strstr(md, "| fake input | `b input` |"));
+    assert_non_null(strstr(md, "2 inputs in 1 classes"));
+    free(md);
+    /* a failure: counted, non-zero exit, and the table is left alone */
+    fake_program(OUT "/runtests/build/tests/test_b", 3, 0, 1);
+    assert_int_equal(run("rm %s/runtests/table.md && SLUICE_HOSTILE_TSV=$PWD/" OUT
+                         "/runtests/rows.tsv SLUICE_HOSTILE_DOC=$PWD/" OUT "/runtests/table.md "
+                         "tests/run_tests " OUT "/runtests/build %s", OUT, bin_dir()),
+                     1);
+    assert_non_null(strstr(output, "5 passed, 1 failed, 1 skipped\n"));
+    assert_false(exists(OUT "/runtests/table.md"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -561,6 +757,11 @@ int main(void)
         cmocka_unit_test(test_plot_sweep_pareto),
         cmocka_unit_test(test_plot_sweep_where),
         cmocka_unit_test(test_plot_sweep_where_errors),
+        cmocka_unit_test(test_run_tests_names_and_skips),
+        cmocka_unit_test(test_monitor_after_restart),
+        cmocka_unit_test(test_plot_units),
+        cmocka_unit_test(test_demo_says_what_and_where),
+        cmocka_unit_test(test_progress_module),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

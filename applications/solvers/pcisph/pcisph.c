@@ -4,16 +4,25 @@
  * (Algorithm 2), with the paper's adaptive time stepping and shock
  * handling (Sec. 3.3), writing time directories of VTK files.
  *
- *   pcisph [-case <dir>] [-quiet]
+ *   pcisph [-case <dir>] [-quiet] [-resume]
  *
- * SIGINT/SIGTERM: finish the step, write, exit (a second one stops at
- * once).  SIGUSR1 or a file named `writeNow` in the case: write now and go on.
+ * One solver per case: it holds a lock on <case>/.sluice.lock (case_lock).
+ * Writes follow writeControl (adjustableRunTime: steps evened out to land
+ * on each write time; runTime: the first step at or past it), and the
+ * state at endTime is always written.  SIGINT/SIGTERM: finish the step,
+ * write, exit (a second one stops at once); -resume (startFrom latestTime
+ * for this run) continues.  SIGUSR1 or a file named `writeNow` in the
+ * case: write now and go on.  Progress with the time left goes to stderr
+ * (sl_progress); the End summary reports this session and, after a
+ * restart, the whole run.
  */
 #include "case/case.h"
+#include "case/case_lock.h"
 #include "case/case_output.h"
 #include "case/case_record.h"
 #include "case/case_restart.h"
 #include "core/sl_log.h"
+#include "core/sl_progress.h"
 #include "functionObjects/fo.h"
 #include "io/time_dir.h"
 #include "solver/pcisph.h"
@@ -28,27 +37,56 @@
 #include <string.h>
 #include <unistd.h>
 
+/* What a run did, for the End summary: kept for this session and, in
+ * the restart file, for the whole run. */
+typedef struct run_totals {
+    long steps;               /* steps computed, those a shock discarded included */
+    long shocks;
+    double iterations;        /* over the steps computed */
+    long at_max_iter;         /* stopped at maxIterations with rho_err max above eta */
+    long by_guard;            /* stopped by the divergence guard with rho_err max above eta */
+    int guard_iter_min, guard_iter_max;
+    double dt_min, dt_max;    /* of the steps taken (after evening out for writes) */
+    double max_err_avg, max_err_max;
+    double active_ratio;      /* sum over accepted steps of active boundary / fluid */
+    long accepted;
+    double wall;              /* seconds in the time loop */
+    double t_first;           /* time the run started from */
+    long sessions;
+} run_totals;
+
+/* The run's state besides the particles, as plain data: the restart file
+ * keeps it (with the effects' saved states after it), so that a restarted run
+ * takes exactly the steps an uninterrupted one takes. */
+typedef struct run_state {
+    ts_state ctl;             /* the controller (its exact dt) */
+    double origin;            /* write times are origin + k writeInterval */
+    run_totals total;         /* the whole run up to this state */
+    int have_prev;            /* the state at the start of the step before is kept */
+    ts_state ctl_prev;
+} run_state;
+
 typedef struct run {
     sl_case c;
     pcs_solver s;
     case_output out;
     case_record rec;
+    case_lock lock;
+    sl_progress prog;
     ts_state ctl;
     pcs_snapshot back[2];      /* state at the start of the last two steps */
     pcs_snapshot wsnap;        /* state written with each time directory (reused) */
     ts_state ctl_back[2];
     unsigned char *eff_back[2]; /* the effects' saved state, likewise */
     size_t eff_size;
-    unsigned char *blob;       /* controller + effects' state for restart files */
+    unsigned char *blob;       /* run_state + the effects' states for restart files */
     size_t blob_size;
     int nback;                 /* how many of back[] are valid */
-    double t, t_end, next_write, last_write;
+    double t, t_end, next_write, last_write, origin;
     long step;
-    int quiet;
-    /* totals */
-    double iterations, max_err_avg, max_err_max, wall0;
-    double active_ratio;       /* sum over accepted steps of active boundary / fluid */
-    long unconverged;
+    int quiet, resume;
+    run_totals session, before; /* this session; the run before it (restart) */
+    double wall0;
 } run;
 
 static volatile sig_atomic_t stop_requested, write_requested;
@@ -71,10 +109,14 @@ static void on_write(int sig)
 static void usage(int status)
 {
     fprintf(status ? stderr : stdout,
-            "Usage: pcisph [-case <dir>] [-quiet] [-help]\n"
+            "Usage: pcisph [-case <dir>] [-quiet] [-resume] [-help]\n"
             "  Runs the PCISPH solver on the case in <dir> (default: the current directory).\n"
-            "  -quiet  print no per-step line (summary and errors only)\n"
-            "  Signals: INT/TERM write and stop; USR1 (or a file <dir>/writeNow) writes now.\n");
+            "  -quiet   print no per-step line (summary and errors only)\n"
+            "  -resume  continue from the latest time directory (startFrom latestTime for\n"
+            "           this run)\n"
+            "  Signals: INT/TERM write and stop; USR1 (or a file <dir>/writeNow) writes now.\n"
+            "  One solver per case (lock <dir>/.sluice.lock); progress and the time left go to\n"
+            "  stderr (SLUICE_PROGRESS=off|line|plain).\n");
     exit(status);
 }
 
@@ -104,50 +146,102 @@ static void print_world(const run *r, const char *dt_rule)
     sl_info("  threads             %d", omp_get_max_threads());
 }
 
-static void progress(const run *r)
+/* The status line: simulated time against endTime, steps per second. */
+static void progress(run *r)
 {
-    if (!isatty(STDERR_FILENO)) return;
-    double t0 = r->c.ctl.start_time, frac = (r->t - t0) / (r->t_end - t0);
-    int w = 40, fill = (int)(frac * w);
-    fprintf(stderr, "\r[");
-    for (int i = 0; i < w; i++) fputc(i < fill ? '#' : '.', stderr);
-    fprintf(stderr, "] %5.1f%%  t = %-10.5g dt = %-9.3g wall %6.1f s", 100 * frac, r->t, r->s.dt,
-            omp_get_wtime() - r->wall0);
-    if (frac >= 1.0) fputc('\n', stderr);
-    fflush(stderr);
+    char what[160];
+    double el = sl_progress_elapsed(&r->prog);
+    snprintf(what, sizeof what, "t = %.6g of %g s  deltaT %.3g s  %.3g steps/s", r->t, r->t_end,
+             r->ctl.dt, el > 0 ? (double)r->session.steps / el : 0.0);
+    sl_progress_update(&r->prog, r->t, what);
+}
+
+/* The whole run so far: the run before this session and the session. */
+static run_totals totals_add(const run_totals *a, const run_totals *b)
+{
+    run_totals t = *a;
+    if (!a->steps) return *b;
+    if (!b->steps) return *a;
+    t.steps += b->steps;
+    t.shocks += b->shocks;
+    t.iterations += b->iterations;
+    t.at_max_iter += b->at_max_iter;
+    t.by_guard += b->by_guard;
+    t.guard_iter_min = b->by_guard && (!a->by_guard || b->guard_iter_min < a->guard_iter_min)
+                           ? b->guard_iter_min : a->guard_iter_min;
+    t.guard_iter_max = b->guard_iter_max > a->guard_iter_max ? b->guard_iter_max : a->guard_iter_max;
+    t.dt_min = fmin(a->dt_min, b->dt_min);
+    t.dt_max = fmax(a->dt_max, b->dt_max);
+    t.max_err_avg = fmax(a->max_err_avg, b->max_err_avg);
+    t.max_err_max = fmax(a->max_err_max, b->max_err_max);
+    t.active_ratio += b->active_ratio;
+    t.accepted += b->accepted;
+    t.wall += b->wall;
+    t.sessions = a->sessions + b->sessions;
+    return t;
 }
 
 /* The run's state besides the particles, as one block for restart files:
- * the controller, then the effects' saved state (emitters). */
+ * run_state, then the effects' state now and at the start of the step
+ * before (emitters). */
 static void blob_pack(run *r)
 {
-    memcpy(r->blob, &r->ctl, sizeof r->ctl);
-    eff_save(&r->c.effects, r->blob + sizeof r->ctl);
+    run_state st;
+    const size_t ne = r->eff_size;
+    const int prev = r->nback > 0 ? (r->nback - 1) % 2 : 0;
+    memset(&st, 0, sizeof st);
+    st.ctl = r->ctl;
+    st.origin = r->origin;
+    r->session.wall = omp_get_wtime() - r->wall0;
+    st.total = totals_add(&r->before, &r->session);
+    st.have_prev = r->nback > 0;
+    if (st.have_prev) {
+        st.ctl_prev = r->ctl_back[prev];
+    }
+    memcpy(r->blob, &st, sizeof st);
+    eff_save(&r->c.effects, r->blob + sizeof st);
+    if (st.have_prev) memcpy(r->blob + sizeof st + ne, r->eff_back[prev], ne);
 }
 
-static void blob_unpack(run *r)
+/* Back from a restart file: the state, and the ring holding the start of
+ * the step before (where a shock in the next step goes back to). */
+static void blob_unpack(run *r, int nsnaps)
 {
-    memcpy(&r->ctl, r->blob, sizeof r->ctl);
-    eff_load(&r->c.effects, r->blob + sizeof r->ctl);
+    run_state st;
+    const size_t ne = r->eff_size;
+    memcpy(&st, r->blob, sizeof st);
+    r->ctl = st.ctl;
+    r->origin = st.origin;
+    r->before = st.total;
+    eff_load(&r->c.effects, r->blob + sizeof st);
+    r->nback = st.have_prev && nsnaps > 1;
+    if (r->nback) {
+        r->ctl_back[0] = st.ctl_prev;
+        memcpy(r->eff_back[0], r->blob + sizeof st + ne, ne);
+    }
 }
 
 /* Write time directory r->t (density recomputed from x(t), restart file
- * included). */
+ * included); the record is flushed with it. */
 static void write_time(run *r)
 {
     sl_err err;
+    const pcs_snapshot *snaps[2] = {&r->wsnap, &r->back[r->nback > 0 ? (r->nback - 1) % 2 : 0]};
     pcs_compute_density(&r->s); /* sorts: the snapshot is taken after it */
     snap_take(&r->wsnap, r->s.f, r->t, r->s.dt, r->step);
     blob_pack(r);
-    if (out_write(&r->out, &r->s, r->t, &r->wsnap, r->blob, r->blob_size, &err))
+    rec_flush(&r->rec);
+    if (out_write(&r->out, &r->s, r->t, snaps, r->nback > 0 ? 2 : 1, r->blob, r->blob_size, &err))
         sl_fatal("%s", err.msg);
     r->last_write = r->t;
 }
 
-/* The next write time after t (multiples of writeInterval from startTime). */
+/* The next write time after t: multiples of writeInterval from the run's
+ * origin (its first startTime, kept across restarts, so that a restarted
+ * run aims at the very same times). */
 static double next_write_after(const run *r, double t)
 {
-    const double t0 = r->c.ctl.start_time, dw = r->c.ctl.write_interval;
+    const double t0 = r->origin, dw = r->c.ctl.write_interval;
     double k = floor((t - t0) / dw + 1e-9) + 1.0;
     return t0 + k * dw;
 }
@@ -203,11 +297,45 @@ static double initial_step(run *r, char *rule, size_t len)
     return dt;
 }
 
+/* A restart file that cannot be used: say which time directory, why, and
+ * what to do about it. */
+static void restart_refused(const run *r, const tdir_list *l, rst_status st, const sl_err *err)
+{
+    const char *name = l->name[l->n - 1];
+    char advice[1024];
+    if (st == RST_DAMAGED && l->n > 1)
+        snprintf(advice, sizeof advice, "the time directory %s cannot be continued: remove it "
+                 "(listTimes -case %s -time %s -rm) to restart from %s, the one before it, or "
+                 "set startFrom startTime to start again", name, r->c.dir, name, l->name[l->n - 2]);
+    else if (st == RST_DAMAGED)
+        snprintf(advice, sizeof advice, "the time directory %s cannot be continued: set "
+                 "startFrom startTime to start again", name);
+    else
+        snprintf(advice, sizeof advice, "to continue from %s, use the Sluice that wrote it "
+                 "with the same case; or set startFrom startTime to start again", name);
+    sl_fatal("%s: %s", err->msg, advice);
+}
+
+/* The precision that gives the restart folder's own name (it was raised
+ * in the run that wrote it), so that records continue under that name. */
+static void precision_of(sl_case *c, double t, const char *name)
+{
+    char buf[64];
+    for (int p = c->ctl.time_precision; p <= 17; p++) {
+        tdir_name(t, p, buf, sizeof buf);
+        if (!strcmp(buf, name)) {
+            c->ctl.time_precision = p;
+            return;
+        }
+    }
+}
+
 /* startFrom latestTime: continue from the newest complete time directory. */
 static int restart_from_latest(run *r)
 {
     tdir_list l;
     sl_err err;
+    int nsnaps = 0;
     if (tdir_list_read(r->c.dir, "fluid.vtu", &l, &err)) sl_fatal("%s", err.msg);
     if (l.n == 0) {
         tdir_list_free(&l);
@@ -218,13 +346,18 @@ static int restart_from_latest(run *r)
     size_t len = strlen(r->c.dir) + strlen(l.name[l.n - 1]) + 2;
     char *dir = malloc(len);
     snprintf(dir, len, "%s/%s", r->c.dir, l.name[l.n - 1]);
-    if (rst_read(dir, &r->back[0], r->blob, r->blob_size, &err)) sl_fatal("%s", err.msg);
-    blob_unpack(r);
-    snap_restore(&r->back[0], &r->c.fluid);
-    r->t = r->back[0].time;
-    r->step = r->back[0].step;
+    pcs_snapshot got[2] = {r->wsnap, r->back[0]};
+    rst_status st = rst_read(dir, got, 2, &nsnaps, r->blob, r->blob_size, &err);
+    r->wsnap = got[0];
+    r->back[0] = got[1];
+    if (st != RST_OK) restart_refused(r, &l, st, &err);
+    blob_unpack(r, nsnaps);
+    snap_restore(&r->wsnap, &r->c.fluid);
+    r->t = r->wsnap.time;
+    r->step = r->wsnap.step;
     r->c.ctl.start_time = r->t;
-    sl_info("Restarting from %s (t = %.9g, step %ld)", dir, r->t, r->step);
+    precision_of(&r->c, r->t, l.name[l.n - 1]);
+    sl_info("Restarting from %s (t = %.17g, step %ld)", dir, r->t, r->step);
     free(dir);
     tdir_list_free(&l);
     return 1;
@@ -235,14 +368,17 @@ static int restart_from_latest(run *r)
 static void fail_with_last_good(run *r, const char *why)
 {
     char name[64];
-    const pcs_snapshot *good = &r->back[(r->nback - 1) % 2];
+    const int k = r->nback > 0 ? (r->nback - 1) % 2 : 0;
     if (r->nback > 0) {
-        snap_restore(good, r->s.f);
-        r->t = good->time;
-        r->step = good->step;
+        snap_restore(&r->back[k], r->s.f);
+        r->t = r->back[k].time;
+        r->step = r->back[k].step;
+        r->ctl = r->ctl_back[k];
+        eff_load(&r->c.effects, r->eff_back[k]);
+        r->nback--; /* the ring's newest entry is now the state itself */
         write_time(r);
     }
-    tdir_name(r->t, r->c.ctl.time_precision, name, sizeof name);
+    out_name(&r->out, r->t, name, sizeof name);
     rec_close(&r->rec);
     sl_fatal("%s at t = %.9g; last good state written to %s/%s", why, r->t, r->c.dir, name);
 }
@@ -271,9 +407,11 @@ static void remember(run *r)
     r->nback++;
 }
 
-/* Shock: restore the state of two steps back and resume with the new dt. */
+/* Shock: restore the state of two steps back and resume with the new dt;
+ * time directories written after it hold discarded states and go. */
 static void roll_back(run *r)
 {
+    sl_err err;
     int k = r->nback >= 2 ? (r->nback - 2) % 2 : 0;
     snap_restore(&r->back[k], r->s.f);
     ts_rollback(&r->ctl, &r->ctl_back[k]);
@@ -282,15 +420,17 @@ static void roll_back(run *r)
     r->step = r->back[k].step;
     r->nback = 0; /* the history restarts from here */
     r->next_write = next_write_after(r, r->t); /* a write passed over is written again */
+    if (r->last_write > r->t) r->last_write = -INFINITY;
+    if (out_discard_after(&r->out, r->t, &err)) sl_fatal("%s", err.msg);
 }
 
-/* The step to take: the controller's dt, adjusted so that a whole number
- * k of equal steps lands exactly on the next write (or end) time.  A step
- * cut short just before a write time would be a sudden change of dt, and
- * PCISPH resolves the same density error in any dt, so a tiny step gives a
- * velocity kick of order 1/dt; spreading the remainder keeps every step
- * within 1 +- 0.5/k of dt (0.5-1.5 dt at worst, for k = 1). */
-static double next_step(const run *r, double target, int *last)
+/* writeControl adjustableRunTime: the controller's dt, adjusted so that a
+ * whole number k of equal steps lands exactly on the next write (or end)
+ * time.  A step cut short just before a write time would be a sudden
+ * change of dt, and PCISPH resolves the same density error in any dt, so a
+ * tiny step gives a velocity kick of order 1/dt; spreading the remainder
+ * keeps every step within 1 +- 0.5/k of dt (0.5-1.5 dt at worst, for k = 1). */
+static double step_adjustable(const run *r, double target, int *last)
 {
     const double remaining = target - r->t;
     double k = floor(remaining / r->ctl.dt + 0.5);
@@ -299,12 +439,101 @@ static double next_step(const run *r, double target, int *last)
     return remaining / k;
 }
 
-static void advance(run *r)
+/* writeControl runTime: the controller's dt as it is, so that the steps do
+ * not depend on the write schedule; only the last two steps before endTime
+ * share what is left (each 0.5-1 dt, never a sliver). */
+static double step_run_time(const run *r, int *last)
+{
+    const double remaining = r->t_end - r->t, dt = r->ctl.dt;
+    *last = remaining <= dt * (1.0 + 1e-9);
+    if (*last) return remaining;
+    return remaining < 2.0 * dt ? 0.5 * remaining : dt;
+}
+
+/* The step to take now and the time it ends at (exactly the target when
+ * it is the last one before it). */
+static double next_step(const run *r, double *t_after)
+{
+    int last;
+    double step, target;
+    if (r->c.ctl.write_control == CASE_RUN_TIME) {
+        target = r->t_end;
+        step = step_run_time(r, &last);
+    } else {
+        /* endTime on a write time (to rounding) is that write time, so
+         * that a run ending there ends where a longer run writes */
+        const double tol = 1e-9 * r->c.ctl.write_interval;
+        target = r->next_write <= r->t_end + tol ? r->next_write : r->t_end;
+        step = step_adjustable(r, target, &last);
+    }
+    *t_after = last ? target : r->t + step;
+    return step;
+}
+
+/* This session's counts of a step computed (a shock's included). */
+static void count_step(run *r, const pcs_stats *st, double step)
+{
+    run_totals *n = &r->session;
+    const double eta = r->c.prm.eta;
+    if (!n->steps) n->dt_min = n->dt_max = step;
+    n->steps++;
+    n->iterations += st->iterations;
+    n->dt_min = fmin(n->dt_min, step);
+    n->dt_max = fmax(n->dt_max, step);
+    if (st->err_max > eta && st->iterations >= r->c.prm.max_iter) n->at_max_iter++;
+    else if (st->err_max > eta && st->diverging) {
+        if (!n->by_guard || st->iterations < n->guard_iter_min) n->guard_iter_min = st->iterations;
+        if (st->iterations > n->guard_iter_max) n->guard_iter_max = st->iterations;
+        n->by_guard++;
+    }
+}
+
+/* ... and of a step kept. */
+static void count_accepted(run *r, const pcs_stats *st)
+{
+    run_totals *n = &r->session;
+    n->accepted++;
+    if (r->s.f->n) n->active_ratio += (double)st->nactive / (double)r->s.f->n;
+    if (st->err_avg > n->max_err_avg) n->max_err_avg = st->err_avg;
+    if (st->err_max > n->max_err_max) n->max_err_max = st->err_max;
+}
+
+/* The run cannot go on after this step: why, or NULL. */
+static const char *step_failure(const run *r, const pcs_stats *st, ts_action a, double dt_used)
+{
+    const double eta = r->c.prm.eta, eta_max = ts_eta_max(&r->c.ts, eta);
+    if (a != TS_SHOCK && (!isfinite(st->vmax) || !isfinite(st->fmax) || !isfinite(st->err_max)))
+        return "the solution diverged (non-finite velocity or density); reduce deltaT in "
+               "system/timeStepDict or use mode adaptive";
+    /* constant mode: the step must let PCISPH reach eta; when iterating to
+     * convergence cannot bring the error down (the average above eta, or
+     * the maximum above eta_max), the step is too large for this case */
+    if (r->c.ts.mode == TS_CONSTANT &&
+        (st->err_avg > eta_max ||
+         (!st->converged && r->c.prm.max_iter > r->c.prm.min_iter &&
+          (st->err_max > eta_max || st->err_avg > eta))))
+        return "not converging: PCISPH cannot bring the density error below eta at this "
+               "deltaT; reduce deltaT in system/timeStepDict or use mode adaptive";
+    if (a == TS_TOO_SMALL) return "not stable: the time step fell below deltaTMin";
+    if (a == TS_SHOCK && (!(r->ctl.dt > 1e-9 * dt_used) || !(r->ctl.dt > 1e-14)))
+        return "not converging: shocks keep shrinking the time step";
+    return NULL;
+}
+
+/* Write after a step: at each write time, and at endTime whatever
+ * writeInterval says. */
+static void write_if_due(run *r)
 {
     const double tol = 1e-9 * r->ctl.dt;
-    const double target = r->next_write < r->t_end ? r->next_write : r->t_end;
-    int last;
-    double step = next_step(r, target, &last);
+    if (r->t >= r->next_write - tol || r->t >= r->t_end - tol) {
+        write_time(r);
+        r->next_write = next_write_after(r, r->t);
+    }
+}
+
+static void advance(run *r)
+{
+    double t_after, step = next_step(r, &t_after);
     if (step != r->s.dt) pcs_set_dt(&r->s, step);
     remember(r);
     pcs_stats st;
@@ -312,7 +541,7 @@ static void advance(run *r)
     r->s.t = r->t;
     pcs_step(&r->s, &st);
     double wall = omp_get_wtime() - ws;
-    r->t = last ? target : r->t + step;
+    r->t = t_after;
     r->step++;
     ts_obs o = {st.err_avg, st.err_max, st.vmax, st.fmax};
     unsigned crit = 0;
@@ -320,41 +549,19 @@ static void advance(run *r)
     ts_action a = ts_update(&r->c.ts, &r->ctl, r->c.prm.eta, r->s.h, &o, &crit);
     rec_step(&r->rec, r->t, step, &st, a == TS_SHOCK, wall, r->ctl.dt);
     log_step(r, &st, step, a, crit, wall);
-    r->iterations += st.iterations;
-    r->unconverged += !st.converged;
-    if (!isfinite(st.vmax) || !isfinite(st.fmax) || !isfinite(st.err_max)) {
-        if (a != TS_SHOCK)
-            fail_with_last_good(r, "the solution diverged (non-finite velocity or density); "
-                                   "reduce deltaT in system/timeStepDict or use mode adaptive");
-    }
-    /* constant mode: the step must let PCISPH reach eta; when iterating to
-     * convergence cannot bring the error down (the average above eta, or
-     * the maximum above eta_max), the step is too large for this case */
-    if (r->c.ts.mode == TS_CONSTANT &&
-        (st.err_avg > ts_eta_max(&r->c.ts, r->c.prm.eta) ||
-         (!st.converged && r->c.prm.max_iter > r->c.prm.min_iter &&
-          (st.err_max > ts_eta_max(&r->c.ts, r->c.prm.eta) || st.err_avg > r->c.prm.eta))))
-        fail_with_last_good(r, "not converging: PCISPH cannot bring the density error below "
-                               "eta at this deltaT; reduce deltaT in system/timeStepDict or use "
-                               "mode adaptive");
-    if (a == TS_TOO_SMALL)
-        fail_with_last_good(r, "not stable: the time step fell below deltaTMin");
+    count_step(r, &st, step);
+    const char *why = step_failure(r, &st, a, dt_used);
+    if (why) fail_with_last_good(r, why);
     if (a == TS_SHOCK) {
-        if (!(r->ctl.dt > 1e-9 * dt_used) || !(r->ctl.dt > 1e-14))
-            fail_with_last_good(r, "not converging: shocks keep shrinking the time step");
+        r->session.shocks++;
         roll_back(r);
         pcs_set_dt(&r->s, r->ctl.dt);
         return;
     }
     pcs_post_step(&r->s, r->t - step, step);
-    if (r->s.f->n) r->active_ratio += (double)st.nactive / (double)r->s.f->n;
-    if (st.err_avg > r->max_err_avg) r->max_err_avg = st.err_avg;
-    if (st.err_max > r->max_err_max) r->max_err_max = st.err_max;
+    count_accepted(r, &st);
     if (r->s.dt != r->ctl.dt) pcs_set_dt(&r->s, r->ctl.dt);
-    if (r->t >= r->next_write - tol) {
-        write_time(r);
-        r->next_write = next_write_after(r, r->t);
-    }
+    write_if_due(r);
 }
 
 static void poll_write_requests(run *r)
@@ -372,23 +579,51 @@ static void poll_write_requests(run *r)
     write_requested = 0;
 }
 
-static void summary(const run *r)
+/* One line of totals: steps, shocks, iterations, errors, wall time. */
+static void summary_totals(const char *label, const run_totals *n, double t_from, double t_to)
+{
+    sl_info("%s%ld steps (%ld shocks), t = %.6g to %.6g s, %.2f s wall, mean iterations %.2f, "
+            "max rho_err avg %.3f%% max %.3f%%",
+            label, n->steps, n->shocks, t_from, t_to, n->wall,
+            n->steps ? n->iterations / (double)n->steps : 0.0, 100 * n->max_err_avg,
+            100 * n->max_err_max);
+}
+
+/* Steps whose iterations ended with rho_err max above eta, and why. */
+static void summary_unconverged(const run *r, const run_totals *n)
+{
+    if (n->at_max_iter)
+        sl_info("  %ld steps stopped at maxIterations %d with rho_err max above eta", n->at_max_iter,
+                r->c.prm.max_iter);
+    if (n->by_guard)
+        sl_info("  %ld steps stopped by the divergence guard (the error grew; the best "
+                "iteration kept) after %d-%d of %d iterations, rho_err max above eta",
+                n->by_guard, n->guard_iter_min, n->guard_iter_max, r->c.prm.max_iter);
+    if (!n->at_max_iter && !n->by_guard && r->c.ts.mode == TS_CONSTANT)
+        sl_info("  every step ended with rho_err max at or below eta");
+}
+
+static void summary(run *r)
 {
     const pcs_timers *tm = &r->s.time;
-    const ts_counts *n = &r->ctl.count;
+    const ts_counts *c = &r->ctl.count;
+    run_totals *n = &r->session;
     double wall = omp_get_wtime() - r->wall0;
     double phases = tm->world + tm->search + tm->forces + tm->predict + tm->density + tm->pressure +
                     tm->integrate;
-    long steps = n->steps;
-    sl_info("End: %ld steps (%ld shocks, %ld increases, %ld decreases), %.2f s wall, "
-            "mean iterations %.2f, max rho_err avg %.3f%% max %.3f%%",
-            steps, n->shock, n->increase, n->decrease, wall,
-            steps ? r->iterations / (double)steps : 0.0, 100 * r->max_err_avg,
-            100 * r->max_err_max);
-    if (r->c.ts.mode == TS_CONSTANT)
-        sl_info("  %ld steps stopped at maxIterations with rho_err max above eta", r->unconverged);
-    sl_info("  deltaT min %.4g s, max %.4g s; active boundary particles per fluid particle %.1f %%",
-            n->dt_min, n->dt_max, steps ? 100 * r->active_ratio / (double)(steps - n->shock) : 0.0);
+    n->wall = wall;
+    const int restarted = r->before.steps > 0;
+    summary_totals(restarted ? "End: this session: " : "End: ", n, r->c.ctl.start_time, r->t);
+    if (restarted) {
+        run_totals all = totals_add(&r->before, n);
+        summary_totals("  whole run: ", &all, r->before.t_first, r->t);
+        sl_info("  (the whole run: %ld sessions; below, this session)", all.sessions);
+    }
+    summary_unconverged(r, n);
+    sl_info("  deltaT min %.6g s, max %.6g s (steps taken; the controller's: %.6g to %.6g s, "
+            "%ld increases, %ld decreases); active boundary particles per fluid particle %.1f %%",
+            n->dt_min, n->dt_max, c->dt_min, c->dt_max, c->increase, c->decrease,
+            n->accepted ? 100 * n->active_ratio / (double)n->accepted : 0.0);
     sl_info("  phases: moving world %.2f s, search %.2f s, forces %.2f s, predict+collision %.2f s, "
             "density %.2f s, pressure force %.2f s, integrate %.2f s, output+other %.2f s",
             tm->world, tm->search, tm->forces, tm->predict, tm->density, tm->pressure,
@@ -400,73 +635,132 @@ static void summary(const run *r)
         sl_info("  effect %-24s %8ld calls %8.2f s", e->type->name, e->calls, e->time);
     }
     sl_info("  %.3g particle-steps/s (%d threads)",
-            wall > 0 ? (double)r->c.fluid.n * (double)steps / wall : 0.0, omp_get_max_threads());
+            wall > 0 ? (double)r->c.fluid.n * (double)n->steps / wall : 0.0, omp_get_max_threads());
+}
+
+static run *the_run; /* for the exit handler */
+
+static void release_lock(void)
+{
+    if (the_run) case_lock_release(&the_run->lock);
+}
+
+/* Before anything is written: hold the case, and clear what runs that
+ * died left behind. */
+static void claim_case(run *r)
+{
+    sl_err err;
+    char names[512];
+    if (case_lock_take(&r->lock, r->c.dir, &err)) sl_fatal("%s", err.msg);
+    the_run = r;
+    atexit(release_lock);
+    size_t n = tdir_remove_stale(r->c.dir, names, sizeof names);
+    if (n) sl_warning("removed %zu temporaries left in %s by runs that died: %s", n, r->c.dir, names);
+}
+
+static void stopped_by_signal(run *r)
+{
+    if (r->last_write != r->t) write_time(r);
+    rec_flush(&r->rec);
+    sl_progress_end(&r->prog);
+    sl_info("Stopped by a signal at t = %.9g (written to %s/%s); resume with ./Allrun -resume, "
+            "or pcisph -case %s -resume (startFrom latestTime for one run)",
+            r->t, r->c.dir, r->out.last_name, r->c.dir);
+}
+
+static void parse_args(run *r, int argc, char **argv, const char **dir)
+{
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "-case") && i + 1 < argc) *dir = argv[++i];
+        else if (!strcmp(argv[i], "-quiet")) r->quiet = 1;
+        else if (!strcmp(argv[i], "-resume")) r->resume = 1;
+        else if (!strcmp(argv[i], "-help") || !strcmp(argv[i], "--help")) usage(0);
+        else { fprintf(stderr, "pcisph: unknown option '%s'\n", argv[i]); usage(2); }
+    }
+}
+
+static void alloc_state(run *r)
+{
+    snap_init(&r->back[0]);
+    snap_init(&r->back[1]);
+    snap_init(&r->wsnap);
+    r->eff_size = eff_state_size(&r->c.effects);
+    r->eff_back[0] = calloc(1, r->eff_size + 1);
+    r->eff_back[1] = calloc(1, r->eff_size + 1);
+    r->blob_size = sizeof(run_state) + 2 * r->eff_size;
+    r->blob = calloc(1, r->blob_size);
+    if (!r->eff_back[0] || !r->eff_back[1] || !r->blob) sl_fatal("out of memory");
+}
+
+static void free_state(run *r)
+{
+    snap_free(&r->back[0]);
+    snap_free(&r->back[1]);
+    snap_free(&r->wsnap);
+    free(r->eff_back[0]);
+    free(r->eff_back[1]);
+    free(r->blob);
 }
 
 int main(int argc, char **argv)
 {
     const char *dir = ".";
     static run r;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "-case") && i + 1 < argc) dir = argv[++i];
-        else if (!strcmp(argv[i], "-quiet")) r.quiet = 1;
-        else if (!strcmp(argv[i], "-help") || !strcmp(argv[i], "--help")) usage(0);
-        else { fprintf(stderr, "pcisph: unknown option '%s'\n", argv[i]); usage(2); }
-    }
+    parse_args(&r, argc, argv, &dir);
     signal(SIGINT, on_stop);
     signal(SIGTERM, on_stop);
     signal(SIGUSR1, on_write);
     case_read(&r.c, dir);
+    if (r.resume) r.c.ctl.start_from = CASE_LATEST_TIME;
     if (r.c.ctl.nthreads > 0) omp_set_num_threads(r.c.ctl.nthreads);
+    claim_case(&r);
     case_build(&r.c);
-    fo_list *fo = fo_read(&r.c);
-    snap_init(&r.back[0]);
-    snap_init(&r.back[1]);
-    snap_init(&r.wsnap);
-    r.eff_size = eff_state_size(&r.c.effects);
-    r.eff_back[0] = calloc(1, r.eff_size + 1);
-    r.eff_back[1] = calloc(1, r.eff_size + 1);
-    r.blob_size = sizeof r.ctl + r.eff_size;
-    r.blob = calloc(1, r.blob_size);
-    if (!r.eff_back[0] || !r.eff_back[1] || !r.blob) sl_fatal("out of memory");
+    alloc_state(&r);
     char rule[256] = "restart";
-    r.t = r.c.ctl.start_time;
+    r.t = r.origin = r.c.ctl.start_time;
     int restarted = r.c.ctl.start_from == CASE_LATEST_TIME && restart_from_latest(&r);
-    if (!restarted) ts_init(&r.ctl, initial_step(&r, rule, sizeof rule));
+    if (!restarted) {
+        ts_init(&r.ctl, initial_step(&r, rule, sizeof rule));
+        r.before.t_first = r.t;
+    }
+    r.session.t_first = r.t;
+    r.session.sessions = 1;
+    fo_list *fo = fo_read(&r.c);
     pcs_init(&r.s, &r.c.prm, &r.c.fluid, &r.c.boundary, r.c.lo, r.c.hi, r.ctl.dt, &r.c.effects);
     pcs_place_world(&r.s, r.t);
     print_world(&r, rule);
     r.t_end = r.c.ctl.end_time;
     r.wall0 = omp_get_wtime();
     out_init(&r.out, &r.c, r.t);
-    rec_open(&r.rec, &r.c, r.t);
+    char start_name[64];
+    out_name(&r.out, r.t, start_name, sizeof start_name);
+    rec_open(&r.rec, &r.c, start_name);
     if (!restarted) write_time(&r);
     const pcs_view view = pcs_view_of(&r.s); /* what the function objects read */
     if (restarted) fo_start(fo, &view, r.t); /* its state was recorded by the last run */
     else fo_execute(fo, &view, r.t, r.step, 1);
     r.last_write = r.t;
     r.next_write = next_write_after(&r, r.t);
+    sl_progress_start(&r.prog, stderr, r.t, r.t_end, 10.0);
+    if (!r.quiet && isatty(STDOUT_FILENO) && r.prog.mode == SL_PROGRESS_LINE)
+        r.prog.mode = SL_PROGRESS_PLAIN; /* step lines scroll on the same terminal */
     while (r.t < r.t_end - 1e-9 * r.ctl.dt) {
         advance(&r);
         poll_write_requests(&r);
         fo_execute(fo, &view, r.t, r.step, r.last_write == r.t);
         progress(&r);
         if (stop_requested) {
-            if (r.last_write != r.t) write_time(&r);
-            sl_info("Stopped by a signal at t = %.9g; continue with 'startFrom latestTime;'", r.t);
+            stopped_by_signal(&r);
             break;
         }
     }
+    if (!stop_requested && r.last_write != r.t) write_time(&r); /* endTime, whatever happened */
+    sl_progress_end(&r.prog);
     summary(&r);
     sl_info("Open %s/fluid.pvd in ParaView.", r.c.dir);
     rec_close(&r.rec);
     out_free(&r.out);
-    snap_free(&r.back[0]);
-    snap_free(&r.back[1]);
-    snap_free(&r.wsnap);
-    free(r.eff_back[0]);
-    free(r.eff_back[1]);
-    free(r.blob);
+    free_state(&r);
     fo_free(fo);
     pcs_free(&r.s);
     case_free(&r.c);

@@ -7,8 +7,13 @@
  * (fluid.pvd, boundary.pvd and their .vtu.series twins) are rewritten to
  * list the time directories that are left.
  *
- *   listTimes [-case <dir>] [-withZero] [-latestTime] [-time <list>] [-rm]
+ * With -check, each listed time's restart file is read to its end (its
+ * CRC checked): a damaged or missing one is marked after the name, and the
+ * exit status is 1.
+ *
+ *   listTimes [-case <dir>] [-withZero] [-latestTime] [-time <list>] [-check] [-rm]
  */
+#include "case/case_restart.h"
 #include "casefiles/casefiles.h"
 #include "core/sl_log.h"
 #include "io/time_dir.h"
@@ -20,7 +25,7 @@
 
 typedef struct options {
     const char *dir, *times;
-    int with_zero, latest, rm;
+    int with_zero, latest, rm, check;
 } options;
 
 static void usage(int status)
@@ -34,6 +39,8 @@ static void usage(int status)
             "  -latestTime     only the latest time\n"
             "  -time <list>    only these times: a comma-separated list of times and\n"
             "                  ranges 'a:b', ':b', 'a:' (inclusive), e.g. '0.1,0.5:1'\n"
+            "  -check          read each listed time's restart file (uniform/restart) to\n"
+            "                  its end and mark a damaged or missing one; exit 1 if any\n"
             "  -rm             remove the listed time directories, then rewrite the\n"
             "                  collections (*.pvd, *.vtu.series) to list those left\n"
             "  -help           print this help\n");
@@ -51,6 +58,7 @@ static options parse_args(int argc, char **argv)
         else if (!strcmp(a, "-withZero")) o.with_zero = 1;
         else if (!strcmp(a, "-latestTime")) o.latest = 1;
         else if (!strcmp(a, "-rm")) o.rm = 1;
+        else if (!strcmp(a, "-check")) o.check = 1;
         else if (!strcmp(a, "-help") || !strcmp(a, "--help")) usage(0);
         else if (a[0] != '-' && !positional++) o.dir = a;
         else {
@@ -133,6 +141,29 @@ static void remove_times(const char *dir, const tdir_list *l)
             sets);
 }
 
+/* Print the names, each checked with -check; returns how many are bad. */
+static int print_times(const options *o, const tdir_list *l)
+{
+    int bad = 0;
+    for (size_t i = 0; i < l->n; i++) {
+        if (!o->check) {
+            puts(l->name[i]);
+            continue;
+        }
+        char *dir = cf_join(o->dir, l->name[i]);
+        sl_err err;
+        int n;
+        rst_status st = rst_read(dir, NULL, 0, &n, NULL, 0, &err);
+        static const char *const what[] = {"", "no restart file", "another version",
+                                           "another case", "damaged"};
+        if (st == RST_OK) printf("%s\n", l->name[i]);
+        else printf("%s  %s: %s\n", l->name[i], what[st], err.msg);
+        bad += st != RST_OK;
+        free(dir);
+    }
+    return bad;
+}
+
 int main(int argc, char **argv)
 {
     options o = parse_args(argc, argv);
@@ -141,9 +172,9 @@ int main(int argc, char **argv)
     if (!cf_is_case(o.dir)) sl_fatal("'%s' is not a case: it has no system/controlDict", o.dir);
     if (tdir_list_read(o.dir, "fluid.vtu", &l, &err)) sl_fatal("%s", err.msg);
     select_times(&l, &o);
-    for (size_t i = 0; i < l.n; i++) puts(l.name[i]);
+    int bad = print_times(&o, &l);
     fflush(stdout);
     if (o.rm) remove_times(o.dir, &l);
     tdir_list_free(&l);
-    return 0;
+    return bad ? 1 : 0;
 }

@@ -1,11 +1,14 @@
 /*
  * monitorCase: watch a run, in the habit of OpenFOAM's foamMonitor -- plots
- * the per-step record postProcessing/timeStep/<startTime>/timeStep.dat (or
- * any function-object file) with gnuplot, in the terminal or as a PNG that
- * is redrawn every few seconds (written atomically, so an image viewer
- * never shows half a picture).
+ * the per-step record of every session of the case (postProcessing/
+ * timeStep/<startTime>/timeStep.dat of the first run and of each restart,
+ * joined in time order by cf_record_read) or any function-object file with
+ * gnuplot, in the terminal or as a PNG that is redrawn every few seconds
+ * (written atomically, so an image viewer never shows half a picture).
+ * Axes carry units; -print writes the joined record as a table instead.
  *
- *   monitorCase [-case <dir>] [-columns a,b] [-png file] [-refresh s] [-idle s] [-once] [<file>]
+ *   monitorCase [-case <dir>] [-columns a,b] [-png file] [-refresh s] [-idle s] [-once]
+ *               [-print] [<file>]
  */
 #include "casefiles/casefiles.h"
 #include "core/sl_log.h"
@@ -24,7 +27,7 @@
 typedef struct options {
     const char *dir, *file, *columns, *png;
     double refresh, idle;
-    int once, logy;
+    int once, logy, print;
 } options;
 
 /* The default picture: one panel per group of columns the record has. */
@@ -36,7 +39,8 @@ static void usage(int status)
     fprintf(status ? stderr : stdout,
             "Usage: monitorCase [options] [<file>]\n"
             "  Plots the per-step record of a case (postProcessing/timeStep/<startTime>/\n"
-            "  timeStep.dat) or any OpenFOAM function-object <file> against its first\n"
+            "  timeStep.dat of the first run and of every restart, joined in time order)\n"
+            "  or any OpenFOAM function-object <file> against its first\n"
             "  column with gnuplot, redrawing until interrupted (Ctrl-C).  By default\n"
             "  four panels: density error (rhoErrAvg, rhoErrMax), iterations, deltaT, vMax.\n"
             "  -case <dir>       the case (default: the current directory)\n"
@@ -46,6 +50,7 @@ static void usage(int status)
             "  -idle <s>         stop when the file has not changed for this long\n"
             "  -once             draw once and exit\n"
             "  -logscale         logarithmic y axes\n"
+            "  -print            print the (joined) record as a table and exit\n"
             "  -help             print this help\n");
     exit(status);
 }
@@ -73,6 +78,7 @@ static options parse_args(int argc, char **argv)
         else if (!strcmp(a, "-idle") && i + 1 < argc) o.idle = seconds(a, argv[++i]);
         else if (!strcmp(a, "-once")) o.once = 1;
         else if (!strcmp(a, "-logscale")) o.logy = 1;
+        else if (!strcmp(a, "-print")) o.print = 1;
         else if (!strcmp(a, "-help") || !strcmp(a, "--help")) usage(0);
         else if (a[0] != '-' && !o.file) o.file = a;
         else {
@@ -105,9 +111,67 @@ static int panel_columns(const cf_table *t, const char *list, int *col, int max,
     return n;
 }
 
-/* One panel: the given columns against the first one, as inline data. */
-static void draw_panel(FILE *p, const cf_table *t, const int *col, int n)
+/* The unit of a column of the record or of a function object, by name. */
+static const char *unit_of(const char *name)
 {
+    static const char *const units[][2] = {
+        {"Time", "s"},        {"deltaT", "s"},         {"controllerDeltaT", "s"},
+        {"wallTime", "s"},    {"iterations", "-"},     {"shock", "-"},
+        {"rhoErr", "%"},      {"volErr", "%"},         {"vMax", "m/s"},
+        {"FMax", "m/s^2"},    {"pressure", "Pa"},      {"density", "kg/m^3"},
+        {"velocity", "m/s"},  {"height", "m"},         {"kinetic", "J"},
+        {"potential", "J"},   {"total", "J"},          {"average", "%"},
+        {"maximum", "%"},     {"minimum", "%"},        {"p", "%"}};
+    for (size_t i = 0; i < sizeof units / sizeof *units; i++) {
+        size_t n = strlen(units[i][0]);
+        if (!strncmp(name, units[i][0], n) &&
+            (strlen(units[i][0]) > 1 || (name[1] >= '0' && name[1] <= '9')))
+            return units[i][1];
+    }
+    return NULL;
+}
+
+/* "deltaT [s]", or the name alone when its unit is not known. */
+static void label(char *buf, size_t len, const char *name, const char *unit)
+{
+    if (unit) snprintf(buf, len, "%s [%s]", name, unit);
+    else snprintf(buf, len, "%s", name);
+}
+
+/* A tick step of 1, 2 or 5 times a power of ten giving at most `max`
+ * ticks over [lo, hi], so that labels do not run together. */
+static double tick_step(double lo, double hi, int max)
+{
+    double range = hi - lo;
+    if (!(range > 0) || max < 1) return 0;
+    double raw = range / max, p = pow(10.0, floor(log10(raw))), m = raw / p;
+    return (m <= 1 ? 1 : m <= 2 ? 2 : m <= 5 ? 5 : 10) * p;
+}
+
+/* Range of the first column (the x axis). */
+static void x_range(const cf_table *t, double *lo, double *hi)
+{
+    *lo = INFINITY;
+    *hi = -INFINITY;
+    for (size_t r = 0; r < t->nrow; r++) {
+        double x = t->v[r * t->ncol];
+        if (x < *lo) *lo = x;
+        if (x > *hi) *hi = x;
+    }
+}
+
+/* One panel: the given columns against the first one, as inline data;
+ * its y label is their common unit. */
+static void draw_panel(FILE *p, const cf_table *t, const int *col, int n, int png)
+{
+    char ylabel[256];
+    const char *unit = unit_of(t->name[col[0]]);
+    for (int k = 1; k < n; k++)
+        if (!unit || !unit_of(t->name[col[k]]) || strcmp(unit, unit_of(t->name[col[k]]))) unit = NULL;
+    label(ylabel, sizeof ylabel, n == 1 ? t->name[col[0]] : "", unit);
+    fputs("set ylabel ", p); /* in a terminal the key says it: no room beside the ticks */
+    cf_plot_string(p, !png ? "" : n == 1 || !unit ? ylabel : ylabel + 1);
+    fputc('\n', p);
     double lo = INFINITY, hi = -INFINITY;
     for (int k = 0; k < n; k++)
         for (size_t r = 0; r < t->nrow; r++) {
@@ -123,8 +187,10 @@ static void draw_panel(FILE *p, const cf_table *t, const int *col, int n)
     }
     fputs("plot ", p);
     for (int k = 0; k < n; k++) {
+        char title[256];
+        label(title, sizeof title, t->name[col[k]], unit_of(t->name[col[k]]));
         fprintf(p, "%s'-' using 1:2 with lines lw 2 title ", k ? ", " : "");
-        cf_plot_string(p, t->name[col[k]]);
+        cf_plot_string(p, title);
     }
     fputc('\n', p);
     for (int k = 0; k < n; k++) {
@@ -150,7 +216,7 @@ static void draw(const options *o, const cf_table *t, const char *path, const ch
 {
     const char *single[1] = {o->columns};
     const char *const *panels = o->columns ? single : default_panels;
-    int npanels = o->columns ? 1 : 4, col[4][16], ncol[4], shown = 0, w, h;
+    int npanels = o->columns ? 1 : 4, col[4][16], ncol[4], shown = 0, w = 100, h = 32;
     sl_err err;
     for (int i = 0; i < npanels; i++) {
         ncol[i] = panel_columns(t, panels[i], col[i], 16, o->columns != NULL, path);
@@ -169,8 +235,16 @@ static void draw(const options *o, const cf_table *t, const char *path, const ch
         terminal_size(&w, &h);
         fprintf(p, "set terminal dumb %d %d\n", w, h);
     }
-    fprintf(p, "set grid\nset key top left opaque\nset xlabel ");
-    cf_plot_string(p, t->name[0]);
+    char xlabel[256];
+    double lo, hi;
+    label(xlabel, sizeof xlabel, t->name[0], unit_of(t->name[0]));
+    x_range(t, &lo, &hi);
+    /* columns of the panel, and ~11 characters per tick label */
+    double step = tick_step(lo, hi, out ? (shown > 1 ? 5 : 8) : (shown > 1 ? w / 2 : w) / 11);
+    fprintf(p, "set grid\nset key top left opaque\nset format x '%%g'\nset format y '%%g'\n");
+    if (step > 0) fprintf(p, "set xtics %.10g\n", step);
+    fputs("set xlabel ", p);
+    cf_plot_string(p, xlabel);
     fprintf(p, "\n%s", o->logy ? "set logscale y\n" : "");
     if (shown > 1) {
         fprintf(p, "set multiplot layout 2,2 title ");
@@ -182,19 +256,65 @@ static void draw(const options *o, const cf_table *t, const char *path, const ch
         fputc('\n', p);
     }
     for (int i = 0; i < npanels; i++)
-        if (ncol[i] > 0) draw_panel(p, t, col[i], ncol[i]);
+        if (ncol[i] > 0) draw_panel(p, t, col[i], ncol[i], out != NULL);
     if (shown > 1) fputs("unset multiplot\n", p);
     if (cf_plot_close(p, &err)) sl_fatal("%s", err.msg);
 }
 
-/* Reads the file and draws it; 0 if it had no rows yet (nothing drawn). */
-static int draw_once(const options *o, const char *path)
+/* The table to show: the file given, or the case's whole record; *title
+ * names it and *watch is the file that grows (both allocated). */
+static void load(const options *o, cf_table *t, char **title, char **watch)
+{
+    sl_err err;
+    if (o->file) {
+        if (cf_table_read(o->file, t, &err)) sl_fatal("%s", err.msg);
+        *title = sl_strdup(o->file);
+        *watch = sl_strdup(o->file);
+        return;
+    }
+    char *folders, *abs = realpath(o->dir, NULL), *base;
+    if (cf_record_read(o->dir, t, &folders, watch, &err)) sl_fatal("%s", err.msg);
+    base = abs && strrchr(abs, '/') && strrchr(abs, '/')[1] ? strrchr(abs, '/') + 1 : (char *)o->dir;
+    size_t n = strlen(base) + strlen(folders) + 8;
+    *title = sl_malloc(n, "a title"); /* the case's own name, never "." */
+    snprintf(*title, n, "%s: %s", base, folders);
+    free(folders);
+    free(abs);
+}
+
+/* The shortest of 15-17 digits that reads back as v exactly. */
+static void print_exact(double v, char end)
+{
+    char buf[40];
+    for (int digits = 15; digits <= 17; digits++) {
+        snprintf(buf, sizeof buf, "%.*g", digits, v);
+        if (strtod(buf, NULL) == v || isnan(v)) break;
+    }
+    printf("%s%c", buf, end);
+}
+
+/* The table as text: a header naming the columns, then the rows. */
+static void print_table(const cf_table *t)
+{
+    fputs("#", stdout);
+    for (size_t c = 0; c < t->ncol; c++) printf("%s%s", c ? "\t" : " ", t->name[c]);
+    putchar('\n');
+    for (size_t r = 0; r < t->nrow; r++)
+        for (size_t c = 0; c < t->ncol; c++)
+            print_exact(t->v[r * t->ncol + c], c + 1 < t->ncol ? '\t' : '\n');
+}
+
+/* Reads the record and draws it; 0 if it had no rows yet (nothing drawn).
+ * *watch gets the file to watch for changes. */
+static int draw_once(const options *o, char **watch)
 {
     cf_table t;
-    sl_err err;
-    if (cf_table_read(path, &t, &err)) sl_fatal("%s", err.msg);
+    char *path;
+    free(*watch);
+    load(o, &t, &path, watch);
     if (t.nrow == 0) {
         cf_table_free(&t);
+        free(path);
         return 0;
     }
     if (o->png) {
@@ -208,6 +328,7 @@ static int draw_once(const options *o, const char *path)
         draw(o, &t, path, NULL);
     }
     cf_table_free(&t);
+    free(path);
     return 1;
 }
 
@@ -220,12 +341,20 @@ static time_t modified(const char *path)
 int main(int argc, char **argv)
 {
     options o = parse_args(argc, argv);
-    sl_err err;
-    char *path = o.file ? sl_strdup(o.file) : cf_record_path(o.dir, &err);
+    char *path = NULL;
     time_t last_change = time(NULL), seen = 0;
-    if (!path) sl_fatal("%s", err.msg);
+    if (o.print) {
+        cf_table t;
+        char *title;
+        load(&o, &t, &title, &path);
+        print_table(&t);
+        cf_table_free(&t);
+        free(title);
+        free(path);
+        return 0;
+    }
     for (;;) {
-        int drawn = draw_once(&o, path);
+        int drawn = draw_once(&o, &path);
         if (o.once) {
             if (!drawn) sl_fatal("%s: no data rows yet", path);
             break;

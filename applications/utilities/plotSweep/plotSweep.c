@@ -383,17 +383,55 @@ static int first_of_group(const table *t, const plotted *d, int by, size_t i)
     return 1;
 }
 
+/* The unit of a column of a sweep table: sweepCase's own columns, the
+ * compareExperiment summary and the usual parameters; NULL if not known. */
+static const char *sweep_unit(const char *column)
+{
+    static const char *const units[][2] = {
+        {"wallTime", "s"},         {"steps", "-"},           {"meanIterations", "-"},
+        {"maxRhoErrAvg", "%"},     {"maxRhoErrMax", "%"},    {"meanRhoErrAvg", "%"},
+        {"maxVolErrAvg", "%"},     {"shocks", "-"},          {"heightRms", "m"},
+        {"heightMaxAbs", "m"},     {"arrivalError", "s"},    {"arrivalErrorMax", "s"},
+        {"plateauError", "fraction"}, {"peakError", "fraction"}, {"nHeights", "-"},
+        {"nPressures", "-"},       {"eta", "% of rho0"},     {"particleSpacing", "m"},
+        {"r0", "m"},               {"deltaT", "s"},          {"deltaTMin", "s"},
+        {"deltaTMax", "s"},        {"endTime", "s"},         {"writeInterval", "s"},
+        {"rho0", "kg/m^3"},        {"soundSpeed", "m/s"},    {"nu", "m^2/s"},
+        {"alpha", "-"},            {"epsilon", "-"},         {"iterations", "-"},
+        {"minIterations", "-"},    {"maxIterations", "-"},   {"numberOfThreads", "-"},
+        {"kappa", "-"}};
+    for (size_t i = 0; i < sizeof units / sizeof *units; i++)
+        if (!strcmp(column, units[i][0])) return units[i][1];
+    return NULL;
+}
+
+/* The column and its unit, "wallTime [s]". */
+static const char *with_unit(const char *column, char *text, size_t len)
+{
+    const char *unit = sweep_unit(column);
+    if (unit) snprintf(text, len, "%s [%s]", column, unit);
+    else snprintf(text, len, "%s", column);
+    return text;
+}
+
+static void axis_label(FILE *p, const char *column)
+{
+    char text[256];
+    cf_plot_string(p, with_unit(column, text, sizeof text));
+}
+
 static void plot_header(FILE *p, const options *o, const char *out)
 {
     if (o->dumb) fputs("set terminal dumb 100 30\n", p);
     else fprintf(p, "set terminal %s size 900,600 noenhanced\nset output '%s'\n",
                  cf_plot_png_terminal(), out);
     fputs("set grid\nset offsets graph 0.05, graph 0.05, graph 0.08, graph 0.05\nset xlabel ", p);
-    cf_plot_string(p, o->x);
+    axis_label(p, o->x);
     fputs("\nset ylabel ", p);
-    cf_plot_string(p, o->y);
-    char title[512];
-    int n = snprintf(title, sizeof title, "%s against %s (%s", o->y, o->x, o->csv);
+    axis_label(p, o->y);
+    char title[512], ux[128], uy[128];
+    int n = snprintf(title, sizeof title, "%s against %s (%s", with_unit(o->y, uy, sizeof uy),
+                     with_unit(o->x, ux, sizeof ux), o->csv);
     for (size_t w = 0; w < o->nwhere && n >= 0 && (size_t)n < sizeof title; w++)
         n += snprintf(title + n, sizeof title - (size_t)n, ", %s", o->where[w]);
     if (n >= 0 && (size_t)n < sizeof title) snprintf(title + n, sizeof title - (size_t)n, ")");

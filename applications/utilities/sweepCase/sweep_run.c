@@ -19,6 +19,7 @@
 #include "casefiles/casefiles.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
+#include "core/sl_progress.h"
 #include "dictedit/dictedit.h"
 #include "dictionary/dict.h"
 #include "io/time_dir.h"
@@ -201,21 +202,39 @@ static pid_t sweep_launch(const sweep *s, const char *solver, size_t point, int 
     return pid;
 }
 
-static int sweep_report(const sweep *s, const sweep_job *j, int status, size_t done, size_t n)
+/* "; 3 of 12 done, about 1 min 05 s left": from the mean rate since the
+ * sweep started (which counts the cases run side by side). */
+static void sweep_eta(char *buf, size_t len, const sl_progress *prog, size_t done, size_t n)
+{
+    char left[32];
+    double el = sl_progress_elapsed(prog);
+    if (done >= n) {
+        sl_progress_duration(el, left, sizeof left);
+        snprintf(buf, len, "; %zu of %zu done, all in %s", done, n, left);
+        return;
+    }
+    sl_progress_duration(el / (double)done * (double)(n - done), left, sizeof left);
+    snprintf(buf, len, "; %zu of %zu done, about %s left", done, n, left);
+}
+
+static int sweep_report(const sweep *s, const sweep_job *j, int status, size_t done, size_t n,
+                        const sl_progress *prog)
 {
     double secs = sweep_seconds_since(&j->start);
+    char eta[128];
+    sweep_eta(eta, sizeof eta, prog, done, n);
     int ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 &&
              sweep_case_status(s, j->point) == SWEEP_FINISHED;
     if (ok) {
-        printf("[%zu/%zu] %s: finished in %.1f s\n", done, n, s->name[j->point], secs);
+        printf("[%zu/%zu] %s: finished in %.1f s%s\n", done, n, s->name[j->point], secs, eta);
     } else {
         char *dir = sweep_case_dir(s, j->point), *log = sweep_log_path(s, dir);
         if (WIFSIGNALED(status))
-            printf("[%zu/%zu] %s: killed by signal %d after %.1f s: see %s\n", done, n,
-                   s->name[j->point], WTERMSIG(status), secs, log);
+            printf("[%zu/%zu] %s: killed by signal %d after %.1f s: see %s%s\n", done, n,
+                   s->name[j->point], WTERMSIG(status), secs, log, eta);
         else
-            printf("[%zu/%zu] %s: failed (exit status %d) after %.1f s: see %s\n", done, n,
-                   s->name[j->point], WEXITSTATUS(status), secs, log);
+            printf("[%zu/%zu] %s: failed (exit status %d) after %.1f s: see %s%s\n", done, n,
+                   s->name[j->point], WEXITSTATUS(status), secs, log, eta);
         free(log);
         free(dir);
     }
@@ -237,6 +256,8 @@ int sweep_run(const sweep *s, int jobs, int threads, int force)
     if (threads > 0) printf(", %d threads each", threads);
     printf("\n");
     for (size_t i = 0; i < ntodo; i++) sweep_prepare(s, todo[i]); /* errors before any run */
+    sl_progress prog;
+    sl_progress_start(&prog, stdout, 0, (double)ntodo, 10.0);
     while (next < ntodo || nrun > 0) {
         while (nrun < jobs && next < ntodo) {
             sweep_job *j = &run[nrun++];
@@ -252,7 +273,7 @@ int sweep_run(const sweep *s, int jobs, int threads, int force)
         }
         for (k = 0; k < nrun && run[k].pid != pid; k++) continue;
         if (k == nrun) continue; /* not one of ours */
-        failed += sweep_report(s, &run[k], status, ++done, ntodo);
+        failed += sweep_report(s, &run[k], status, ++done, ntodo, &prog);
         run[k] = run[--nrun];
     }
     free(solver);
