@@ -178,6 +178,23 @@ static ts_action decide(const ts_params *p, ts_state *s, double h, const ts_obs 
     return a;
 }
 
+/* Whether the run can go on after action a. */
+static ts_action verdict(const ts_params *p, const ts_state *s, double eta_avg, const ts_obs *o,
+                         ts_action a, unsigned c, double dt_used)
+{
+    const double eta_max = ts_eta_max(p, eta_avg);
+    if (a != TS_SHOCK && (c & TS_NONFINITE)) return TS_DIVERGED;
+    /* constant mode: the step must let PCISPH reach eta; when iterating to
+     * convergence cannot bring the error down (the average above eta, or
+     * the maximum above eta_max), the step is too large for this case */
+    if (p->mode == TS_CONSTANT &&
+        (o->err_avg > eta_max ||
+         (!o->converged && o->iterating && (o->err_max > eta_max || o->err_avg > eta_avg))))
+        return TS_NOT_CONVERGING;
+    if (a == TS_SHOCK && (!(s->dt > 1e-9 * dt_used) || !(s->dt > 1e-14))) return TS_SHOCK_STORM;
+    return a;
+}
+
 ts_action ts_update(const ts_params *p, ts_state *s, double eta_avg, double h,
                     const ts_obs *o, unsigned *criteria)
 {
@@ -193,16 +210,32 @@ ts_action ts_update(const ts_params *p, ts_state *s, double eta_avg, double h,
         c = TS_NONFINITE;
     s->prev_err_max = o->err_max; /* history of eq. (25) */
     s->have_prev = 1;
+    const double dt_used = s->dt;
     if (p->mode == TS_ADAPTIVE) a = decide(p, s, h, o, &c);
     switch (a) {
     case TS_KEEP: n->keep++; break;
     case TS_INCREASE: n->increase++; break;
     case TS_DECREASE: n->decrease++; break;
     case TS_SHOCK: n->shock++; break;
-    case TS_TOO_SMALL: break;
+    default: break;
     }
     if (criteria) *criteria = c;
-    return a;
+    return verdict(p, s, eta_avg, o, a, c, dt_used);
+}
+
+const char *ts_failure(ts_action a)
+{
+    switch (a) {
+    case TS_TOO_SMALL: return "not stable: the time step fell below deltaTMin";
+    case TS_DIVERGED:
+        return "the solution diverged (non-finite velocity or density); reduce deltaT in "
+               "system/timeStepDict or use mode adaptive";
+    case TS_NOT_CONVERGING:
+        return "not converging: PCISPH cannot bring the density error below eta at this "
+               "deltaT; reduce deltaT in system/timeStepDict or use mode adaptive";
+    case TS_SHOCK_STORM: return "not converging: shocks keep shrinking the time step";
+    default: return NULL;
+    }
 }
 
 /* ---- text for the log ---- */
@@ -215,6 +248,9 @@ const char *ts_action_name(ts_action a)
     case TS_DECREASE: return "decrease";
     case TS_SHOCK: return "shock";
     case TS_TOO_SMALL: return "tooSmall";
+    case TS_DIVERGED: return "diverged";
+    case TS_NOT_CONVERGING: return "notConverging";
+    case TS_SHOCK_STORM: return "shockStorm";
     }
     return "?";
 }

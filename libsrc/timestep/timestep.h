@@ -142,9 +142,26 @@ typedef struct ts_obs {
     double err_avg, err_max; /* rho_err avg and max, fractions of rho0 */
     double vmax;             /* max |v(t + dt)|, m/s */
     double fmax;             /* max |F / m|, m/s^2 */
+    int converged;           /* the iterations reached eta */
+    int iterating;           /* iterating to convergence (maxIterations > minIterations) */
 } ts_obs;
 
-typedef enum { TS_KEEP, TS_INCREASE, TS_DECREASE, TS_SHOCK, TS_TOO_SMALL } ts_action;
+/* What to do after a step.  The first four go on (a shock: back two
+ * steps, eq. 24-27); the others end the run with the last good state
+ * (ts_failure says why). */
+typedef enum {
+    TS_KEEP,
+    TS_INCREASE,
+    TS_DECREASE,
+    TS_SHOCK,
+    TS_TOO_SMALL,       /* the step fell below deltaTMin */
+    TS_DIVERGED,        /* a non-finite velocity or density, and no shock to go back from */
+    TS_NOT_CONVERGING,  /* constant mode: iterating cannot bring the error below eta */
+    TS_SHOCK_STORM      /* shocks keep shrinking the step */
+} ts_action;
+
+/* Why the run cannot go on after action a (with what to do), or NULL. */
+const char *ts_failure(ts_action a);
 
 /* Criterion flags: (16)-(23) "holds", (25)-(27) "fired". */
 #define TS_C16 (1u << 0)

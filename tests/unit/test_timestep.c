@@ -19,6 +19,10 @@
 #include "dictionary/dict.h"
 #include "timestep/timestep.h"
 
+/* The observations below give (err_avg, err_max, vmax, fmax) positionally;
+ * converged and iterating stay 0 unless a test sets them. */
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+
 #define ETC "etc/caseDicts/timeStepDict"
 
 /* A typical set-up: h = 2 r0 = 0.02 m, eta_avg = 1 %, dt = 1 ms. */
@@ -556,6 +560,40 @@ static void test_constant_mode(void **state)
     assert_int_equal(base.count.shock + base.count.increase + base.count.decrease, 0);
 }
 
+/* The actions that end a run, and why. */
+static void test_run_ending_actions(void **state)
+{
+    (void)state;
+    ts_params pc = defaults(), pa = defaults();
+    pc.mode = TS_CONSTANT;
+    pc.delta_t = DT;
+    unsigned c;
+    ts_state s = fresh(DT);
+    ts_obs o = calm();
+    o.err_avg = 11.0 * ETA; /* constant mode: the average beyond eta_max */
+    assert_int_equal(step(&pc, &s, o, &c), TS_NOT_CONVERGING);
+    o = calm();
+    o.err_avg = 1.5 * ETA; /* iterating to convergence and not reaching eta */
+    o.iterating = 1;
+    s = fresh(DT);
+    assert_int_equal(step(&pc, &s, o, &c), TS_NOT_CONVERGING);
+    o.converged = 1; /* ... or reaching it */
+    s = fresh(DT);
+    assert_int_equal(step(&pc, &s, o, &c), TS_KEEP);
+    o = calm();
+    o.vmax = (double)INFINITY; /* constant mode has no shock to go back from */
+    s = fresh(DT);
+    assert_int_equal(step(&pc, &s, o, &c), TS_DIVERGED);
+    s = fresh(1e-14); /* adaptive: a shock that leaves no step */
+    o = calm();
+    o.err_max = 11.0 * ETA;
+    assert_int_equal(step(&pa, &s, o, &c), TS_SHOCK_STORM);
+    const ts_action ends[] = {TS_TOO_SMALL, TS_DIVERGED, TS_NOT_CONVERGING, TS_SHOCK_STORM};
+    for (size_t k = 0; k < 4; k++) assert_non_null(ts_failure(ends[k]));
+    const ts_action goes_on[] = {TS_KEEP, TS_INCREASE, TS_DECREASE, TS_SHOCK};
+    for (size_t k = 0; k < 4; k++) assert_null(ts_failure(goes_on[k]));
+}
+
 /* ---- reading and validation ---------------------------------------------------- */
 
 static void test_read_overrides(void **state)
@@ -696,6 +734,7 @@ int main(void)
         cmocka_unit_test(test_limits),
         cmocka_unit_test(test_too_small),
         cmocka_unit_test(test_constant_mode),
+        cmocka_unit_test(test_run_ending_actions),
         cmocka_unit_test(test_read_overrides),
         cmocka_unit_test(test_validate_rejects),
         cmocka_unit_test(test_text),

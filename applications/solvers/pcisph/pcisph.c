@@ -26,7 +26,7 @@
 #include "functionObjects/fo.h"
 #include "io/time_dir.h"
 #include "solver/pcisph.h"
-#include "solver/pcs_snapshot.h"
+#include "solver/pcs_history.h"
 #include "timestep/timestep.h"
 
 #include <math.h>
@@ -74,14 +74,11 @@ typedef struct run {
     case_lock lock;
     sl_progress prog;
     ts_state ctl;
-    pcs_snapshot back[2];      /* state at the start of the last two steps */
+    pcs_history hist;          /* the state at the start of the last two steps */
     pcs_snapshot wsnap;        /* state written with each time directory (reused) */
-    ts_state ctl_back[2];
-    unsigned char *eff_back[2]; /* the effects' saved state, likewise */
     size_t eff_size;
     unsigned char *blob;       /* run_state + the effects' states for restart files */
     size_t blob_size;
-    int nback;                 /* how many of back[] are valid */
     double t, t_end, next_write, last_write, origin;
     long step;
     int quiet, resume;
@@ -188,19 +185,17 @@ static void blob_pack(run *r)
 {
     run_state st;
     const size_t ne = r->eff_size;
-    const int prev = r->nback > 0 ? (r->nback - 1) % 2 : 0;
+    const pcs_run_state *prev = hist_last(&r->hist);
     memset(&st, 0, sizeof st);
     st.ctl = r->ctl;
     st.origin = r->origin;
     r->session.wall = omp_get_wtime() - r->wall0;
     st.total = totals_add(&r->before, &r->session);
-    st.have_prev = r->nback > 0;
-    if (st.have_prev) {
-        st.ctl_prev = r->ctl_back[prev];
-    }
+    st.have_prev = prev != NULL;
+    if (prev) st.ctl_prev = prev->ctl;
     memcpy(r->blob, &st, sizeof st);
     eff_save(&r->c.effects, r->blob + sizeof st);
-    if (st.have_prev) memcpy(r->blob + sizeof st + ne, r->eff_back[prev], ne);
+    if (prev) memcpy(r->blob + sizeof st + ne, prev->eff, ne);
 }
 
 /* Back from a restart file: the state, and the ring holding the start of
@@ -214,10 +209,11 @@ static void blob_unpack(run *r, int nsnaps)
     r->origin = st.origin;
     r->before = st.total;
     eff_load(&r->c.effects, r->blob + sizeof st);
-    r->nback = st.have_prev && nsnaps > 1;
-    if (r->nback) {
-        r->ctl_back[0] = st.ctl_prev;
-        memcpy(r->eff_back[0], r->blob + sizeof st + ne, ne);
+    pcs_run_state *prev = hist_slot(&r->hist, 0);
+    hist_seed(&r->hist, st.have_prev && nsnaps > 1);
+    if (hist_last(&r->hist)) {
+        prev->ctl = st.ctl_prev;
+        memcpy(prev->eff, r->blob + sizeof st + ne, ne);
     }
 }
 
@@ -226,12 +222,13 @@ static void blob_unpack(run *r, int nsnaps)
 static void write_time(run *r)
 {
     sl_err err;
-    const pcs_snapshot *snaps[2] = {&r->wsnap, &r->back[r->nback > 0 ? (r->nback - 1) % 2 : 0]};
+    const pcs_run_state *prev = hist_last(&r->hist);
+    const pcs_snapshot *snaps[2] = {&r->wsnap, prev ? &prev->snap : NULL};
     pcs_compute_density(&r->s); /* sorts: the snapshot is taken after it */
     snap_take(&r->wsnap, r->s.f, r->t, r->s.dt, r->step);
     blob_pack(r);
     rec_flush(&r->rec);
-    if (out_write(&r->out, &r->s, r->t, snaps, r->nback > 0 ? 2 : 1, r->blob, r->blob_size, &err))
+    if (out_write(&r->out, &r->s, r->t, snaps, prev ? 2 : 1, r->blob, r->blob_size, &err))
         sl_fatal("%s", err.msg);
     r->last_write = r->t;
 }
@@ -346,10 +343,10 @@ static int restart_from_latest(run *r)
     size_t len = strlen(r->c.dir) + strlen(l.name[l.n - 1]) + 2;
     char *dir = malloc(len);
     snprintf(dir, len, "%s/%s", r->c.dir, l.name[l.n - 1]);
-    pcs_snapshot got[2] = {r->wsnap, r->back[0]};
+    pcs_snapshot got[2] = {r->wsnap, hist_slot(&r->hist, 0)->snap};
     rst_status st = rst_read(dir, got, 2, &nsnaps, r->blob, r->blob_size, &err);
     r->wsnap = got[0];
-    r->back[0] = got[1];
+    hist_slot(&r->hist, 0)->snap = got[1];
     if (st != RST_OK) restart_refused(r, &l, st, &err);
     blob_unpack(r, nsnaps);
     snap_restore(&r->wsnap, &r->c.fluid);
@@ -368,14 +365,10 @@ static int restart_from_latest(run *r)
 static void fail_with_last_good(run *r, const char *why)
 {
     char name[64];
-    const int k = r->nback > 0 ? (r->nback - 1) % 2 : 0;
-    if (r->nback > 0) {
-        snap_restore(&r->back[k], r->s.f);
-        r->t = r->back[k].time;
-        r->step = r->back[k].step;
-        r->ctl = r->ctl_back[k];
-        eff_load(&r->c.effects, r->eff_back[k]);
-        r->nback--; /* the ring's newest entry is now the state itself */
+    const pcs_run_state *good = hist_restore_last(&r->hist, r->s.f, &r->ctl, &r->c.effects);
+    if (good) {
+        r->t = good->snap.time;
+        r->step = good->snap.step;
         write_time(r);
     }
     out_name(&r->out, r->t, name, sizeof name);
@@ -388,37 +381,24 @@ static void log_step(const run *r, const pcs_stats *st, double step, ts_action a
 {
     if (r->quiet) return;
     char why[256] = "";
-    if (a == TS_SHOCK) ts_criteria_text(&r->c.ts, crit, why, sizeof why);
+    const int shock = a == TS_SHOCK || a == TS_SHOCK_STORM;
+    if (shock) ts_criteria_text(&r->c.ts, crit, why, sizeof why);
     sl_info("Time = %-10.6g deltaT = %-9.4g iter %2d  rho_err avg %.3f%% max %.3f%% "
             "(before %.3f%% / %.3f%%)  vmax %.3g  Fmax %.3g  boundary %zu  %.3f s%s%s%s",
             r->t, step, st->iterations, 100 * st->err_avg, 100 * st->err_max,
             100 * st->err_avg_before, 100 * st->err_max_before, st->vmax, st->fmax,
-            st->nactive, wall, a == TS_SHOCK ? "  SHOCK " : "", why,
-            a == TS_SHOCK ? ": back two steps" : "");
+            st->nactive, wall, shock ? "  SHOCK " : "", why, shock ? ": back two steps" : "");
 }
 
-/* Keep the state at the start of this step (ring of two). */
-static void remember(run *r)
-{
-    const int k = r->nback % 2;
-    snap_take(&r->back[k], r->s.f, r->t, r->s.dt, r->step);
-    r->ctl_back[k] = r->ctl;
-    eff_save(&r->c.effects, r->eff_back[k]);
-    r->nback++;
-}
 
 /* Shock: restore the state of two steps back and resume with the new dt;
  * time directories written after it hold discarded states and go. */
 static void roll_back(run *r)
 {
     sl_err err;
-    int k = r->nback >= 2 ? (r->nback - 2) % 2 : 0;
-    snap_restore(&r->back[k], r->s.f);
-    ts_rollback(&r->ctl, &r->ctl_back[k]);
-    eff_load(&r->c.effects, r->eff_back[k]);
-    r->t = r->back[k].time;
-    r->step = r->back[k].step;
-    r->nback = 0; /* the history restarts from here */
+    const pcs_run_state *back = hist_roll_back(&r->hist, r->s.f, &r->ctl, &r->c.effects);
+    r->t = back->snap.time;
+    r->step = back->snap.step;
     r->next_write = next_write_after(r, r->t); /* a write passed over is written again */
     if (r->last_write > r->t) r->last_write = -INFINITY;
     if (out_discard_after(&r->out, r->t, &err)) sl_fatal("%s", err.msg);
@@ -498,28 +478,6 @@ static void count_accepted(run *r, const pcs_stats *st)
     if (st->err_max > n->max_err_max) n->max_err_max = st->err_max;
 }
 
-/* The run cannot go on after this step: why, or NULL. */
-static const char *step_failure(const run *r, const pcs_stats *st, ts_action a, double dt_used)
-{
-    const double eta = r->c.prm.eta, eta_max = ts_eta_max(&r->c.ts, eta);
-    if (a != TS_SHOCK && (!isfinite(st->vmax) || !isfinite(st->fmax) || !isfinite(st->err_max)))
-        return "the solution diverged (non-finite velocity or density); reduce deltaT in "
-               "system/timeStepDict or use mode adaptive";
-    /* constant mode: the step must let PCISPH reach eta; when iterating to
-     * convergence cannot bring the error down (the average above eta, or
-     * the maximum above eta_max), the step is too large for this case */
-    if (r->c.ts.mode == TS_CONSTANT &&
-        (st->err_avg > eta_max ||
-         (!st->converged && r->c.prm.max_iter > r->c.prm.min_iter &&
-          (st->err_max > eta_max || st->err_avg > eta))))
-        return "not converging: PCISPH cannot bring the density error below eta at this "
-               "deltaT; reduce deltaT in system/timeStepDict or use mode adaptive";
-    if (a == TS_TOO_SMALL) return "not stable: the time step fell below deltaTMin";
-    if (a == TS_SHOCK && (!(r->ctl.dt > 1e-9 * dt_used) || !(r->ctl.dt > 1e-14)))
-        return "not converging: shocks keep shrinking the time step";
-    return NULL;
-}
-
 /* Write after a step: at each write time, and at endTime whatever
  * writeInterval says. */
 static void write_if_due(run *r)
@@ -535,7 +493,7 @@ static void advance(run *r)
 {
     double t_after, step = next_step(r, &t_after);
     if (step != r->s.dt) pcs_set_dt(&r->s, step);
-    remember(r);
+    hist_remember(&r->hist, r->s.f, r->t, r->s.dt, r->step, &r->ctl, &r->c.effects);
     pcs_stats st;
     double ws = omp_get_wtime();
     r->s.t = r->t;
@@ -543,14 +501,15 @@ static void advance(run *r)
     double wall = omp_get_wtime() - ws;
     r->t = t_after;
     r->step++;
-    ts_obs o = {st.err_avg, st.err_max, st.vmax, st.fmax};
+    ts_obs o = {st.err_avg, st.err_max, st.vmax, st.fmax, st.converged,
+                r->c.prm.max_iter > r->c.prm.min_iter};
     unsigned crit = 0;
-    double dt_used = r->ctl.dt;
     ts_action a = ts_update(&r->c.ts, &r->ctl, r->c.prm.eta, r->s.h, &o, &crit);
-    rec_step(&r->rec, r->t, step, &st, a == TS_SHOCK, wall, r->ctl.dt);
+    const int shock = a == TS_SHOCK || a == TS_SHOCK_STORM;
+    rec_step(&r->rec, r->t, step, &st, shock, wall, r->ctl.dt);
     log_step(r, &st, step, a, crit, wall);
     count_step(r, &st, step);
-    const char *why = step_failure(r, &st, a, dt_used);
+    const char *why = ts_failure(a);
     if (why) fail_with_last_good(r, why);
     if (a == TS_SHOCK) {
         r->session.shocks++;
@@ -681,24 +640,18 @@ static void parse_args(run *r, int argc, char **argv, const char **dir)
 
 static void alloc_state(run *r)
 {
-    snap_init(&r->back[0]);
-    snap_init(&r->back[1]);
+    hist_init(&r->hist, &r->c.effects);
     snap_init(&r->wsnap);
-    r->eff_size = eff_state_size(&r->c.effects);
-    r->eff_back[0] = calloc(1, r->eff_size + 1);
-    r->eff_back[1] = calloc(1, r->eff_size + 1);
+    r->eff_size = r->hist.eff_size;
     r->blob_size = sizeof(run_state) + 2 * r->eff_size;
     r->blob = calloc(1, r->blob_size);
-    if (!r->eff_back[0] || !r->eff_back[1] || !r->blob) sl_fatal("out of memory");
+    if (!r->blob) sl_fatal("out of memory");
 }
 
 static void free_state(run *r)
 {
-    snap_free(&r->back[0]);
-    snap_free(&r->back[1]);
+    hist_free(&r->hist);
     snap_free(&r->wsnap);
-    free(r->eff_back[0]);
-    free(r->eff_back[1]);
     free(r->blob);
 }
 
