@@ -124,6 +124,26 @@ static void sort_by_cell(nbr_grid *g, size_t n, const double *x, const double *y
     for (size_t i = 0; i < n; i++) perm[g->count[cellv[i]]++] = (uint32_t)i;
 }
 
+/* Within each cell, order the particles (perm: new -> old index) by id
+ * (insertion sort: the previous step's order is nearly sorted already).
+ * The key (cell, id) fixes the order, and so every neighbour order and
+ * every sum, whatever the order the particles came in: the history of
+ * moves, a restart, or another rank's numbering. */
+static void order_cells_by_id(const nbr_grid *g, const uint32_t *start, uint32_t *perm,
+                              const uint32_t *id)
+{
+#pragma omp parallel for schedule(dynamic, 256)
+    for (size_t k = 0; k < g->ncells; k++) {
+        uint32_t *seg = perm + start[k];
+        uint32_t len = start[k + 1] - start[k];
+        for (uint32_t a = 1; a < len; a++) {
+            uint32_t v = seg[a], c = a;
+            while (c > 0 && id[seg[c - 1]] > id[v]) { seg[c] = seg[c - 1]; c--; }
+            seg[c] = v;
+        }
+    }
+}
+
 void nbr_sort_boundary(nbr_grid *g, sl_boundary *b)
 {
     if (g->bperm_cap < b->n) { /* once: moving bodies re-sort every step */
@@ -134,19 +154,9 @@ void nbr_sort_boundary(nbr_grid *g, sl_boundary *b)
         g->bperm_cap = b->n;
     }
     sort_by_cell(g, b->n, b->x, b->y, b->z, g->bcell, g->bstart, g->bperm);
-    /* within a cell, by creation index: the order (and so every sum over
-     * boundary neighbours) does not depend on the history of moves, which
-     * keeps restarts of moving scenes bit-identical */
-#pragma omp parallel for schedule(dynamic, 256)
-    for (size_t k = 0; k < g->ncells; k++) {
-        uint32_t *seg = g->bperm + g->bstart[k];
-        uint32_t len = g->bstart[k + 1] - g->bstart[k];
-        for (uint32_t a = 1; a < len; a++) {
-            uint32_t v = seg[a], c = a;
-            while (c > 0 && b->id[seg[c - 1]] > b->id[v]) { seg[c] = seg[c - 1]; c--; }
-            seg[c] = v;
-        }
-    }
+    /* within a cell, by creation index: restarts of moving scenes stay
+     * bit-identical */
+    order_cells_by_id(g, g->bstart, g->bperm, b->id);
     prt_boundary_permute(b, g->bperm);
 }
 
@@ -158,6 +168,8 @@ void nbr_sort_fluid(nbr_grid *g, sl_fluid *f)
         g->perm_cap = f->cap;
     }
     sort_by_cell(g, f->n, f->x, f->y, f->z, f->cell, g->fstart, g->perm);
+    /* key (cell, global id): the order does not depend on the previous one */
+    order_cells_by_id(g, g->fstart, g->perm, f->id);
     prt_fluid_permute(f, g->perm);
 }
 

@@ -68,7 +68,9 @@ void nbr_grid_free(nbr_grid *g);
 
 /* Sort the boundary particles by cell (once, at set-up) and fill bstart. */
 void nbr_sort_boundary(nbr_grid *g, sl_boundary *b);
-/* Sort the fluid by cell (permuting all its arrays) and fill fstart. */
+/* Sort the fluid by the key (cell, id) (permuting all its arrays) and fill
+ * fstart: the order, hence every neighbour order, depends only on the
+ * positions and the particles' ids, not on their previous order. */
 void nbr_sort_fluid(nbr_grid *g, sl_fluid *f);
 
 void nbr_list_init(nbr_list *l);
