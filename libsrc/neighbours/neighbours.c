@@ -105,6 +105,13 @@ static inline uint32_t rank_of(const nbr_grid *g, const int c[3])
     return g->rank[lin];
 }
 
+uint32_t nbr_cell_rank(const nbr_grid *g, double x, double y, double z)
+{
+    int c[3];
+    cell_of(g, x, y, z, c);
+    return rank_of(g, c);
+}
+
 /* Counting sort of n particles by cell rank: fills start (ncells + 1) and
  * perm (new index -> old index).  Stable, hence deterministic. */
 static void sort_by_cell(nbr_grid *g, size_t n, const double *x, const double *y,
@@ -304,6 +311,13 @@ static void gather_both(const nbr_grid *g, nbr_list *l, nbr_list *lb, int t, con
             buf_reserve(l, t, j1 - j0);
             l->tlen[t] = filter_range(l->tbuf[t], l->tlen[t], j0, j1, i, px, py, pz, f->x, f->y,
                                       f->z, g->h2);
+            if (g->hstart && f->nhalo) { /* halo copies of the row's cells */
+                j0 = g->hstart[ka];
+                j1 = g->hstart[ke];
+                buf_reserve(l, t, j1 - j0);
+                l->tlen[t] = filter_range(l->tbuf[t], l->tlen[t], j0, j1, i, px, py, pz, f->x,
+                                          f->y, f->z, g->h2);
+            }
             j0 = g->bstart[ka];
             j1 = g->bstart[ke];
             if (j1 > j0) {
@@ -359,9 +373,10 @@ void nbr_build_ff(const nbr_grid *g, const sl_fluid *f, nbr_list *l)
 void nbr_build_fluid(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *ff,
                      nbr_list *fb)
 {
-    list_prepare(ff, f->n);
-    list_prepare(fb, f->n);
-    FOR_ROWS_BY_THREAD(ff, f->n, { gather_both(g, ff, fb, t_, f, b, (uint32_t)i); })
+    const size_t rows = f->n + f->nhalo;
+    list_prepare(ff, rows);
+    list_prepare(fb, rows);
+    FOR_ROWS_BY_THREAD(ff, rows, { gather_both(g, ff, fb, t_, f, b, (uint32_t)i); })
     list_finish(ff);
     list_finish(fb);
 }
