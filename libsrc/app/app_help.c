@@ -75,15 +75,15 @@ static void app_help_aliases(FILE *out, const app_info *info)
     int any = 0;
     for (const app_option *o = info->options; o && o->name; o++) {
         if (!o->aliases) continue;
-        if (!any++) fputs("\nOld spellings (still accepted, with a warning):\n", out);
+        if (!any++) fputs("\nOld spellings, still accepted with a warning:\n", out);
         fputs("  ", out);
         for (const char *p = o->aliases; *p;) {
             size_t n = strcspn(p, " ");
-            fprintf(out, "-%.*s ", (int)n, p);
+            fprintf(out, "%s-%.*s", p == o->aliases ? "" : ", ", (int)n, p);
             p += n;
             p += strspn(p, " ");
         }
-        fprintf(out, "for -%s\n", o->name);
+        fprintf(out, ": use -%s\n", o->name);
     }
 }
 
