@@ -15,6 +15,7 @@
  */
 #include "app/app.h"
 #include "case/case.h"
+#include "casefiles/casefiles.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 #include "functionObjects/fo.h"
@@ -24,8 +25,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 static const app_option options[] = {
     APP_CASE,
@@ -75,28 +74,9 @@ static int write_script(const char *dir)
 /* Run gnuplot on the script in dir; problems are warnings. */
 static void run_gnuplot(const char *dir)
 {
-    fflush(NULL);
-    pid_t pid = fork();
-    if (pid < 0) {
-        sl_warning("cannot start gnuplot: %s", strerror(errno));
-        return;
-    }
-    if (pid == 0) {
-        if (chdir(dir) != 0) _exit(126);
-        execlp("gnuplot", "gnuplot", "densityError.gp", (char *)NULL);
-        _exit(127);
-    }
-    int status;
-    while (waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR) {
-            sl_warning("lost gnuplot: %s", strerror(errno));
-            return;
-        }
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
-        sl_warning("gnuplot not found: no plot (install gnuplot, e.g. Debian's gnuplot-nox); "
-                   "run 'gnuplot densityError.gp' in %s later", dir);
-    else if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        sl_warning("gnuplot failed on %s/densityError.gp: no plot", dir);
+    sl_err err;
+    if (cf_plot_script(dir, "densityError.gp", &err))
+        sl_warning("%s: no plot; run 'gnuplot densityError.gp' in %s later", err.msg, dir);
     else
         sl_info("Plot: %s/densityError.png", dir);
 }

@@ -29,6 +29,7 @@
 #include "casefiles/casefiles.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
+#include "core/sl_proc.h"
 #include "io/time_dir.h"
 
 static volatile sig_atomic_t interrupted;
@@ -262,9 +263,10 @@ static void run_pool(sts_run *r, int searching)
             sts_trial *t = &r->trial[i];
             int status, ended = 0;
             if (t->status != STS_RUNNING) continue;
-            pid_t p = waitpid(t->pid, &status, WNOHANG);
-            if (p < 0 && errno != EINTR) sl_fatal("waiting for %s: %s", t->dir, strerror(errno));
-            if (p == t->pid) {
+            sl_err err;
+            int ended_now = sl_proc_wait(t->pid, &status, 1, &err);
+            if (ended_now < 0) sl_fatal("%s: %s", t->dir, err.msg);
+            if (ended_now) {
                 sts_trial_finish(r, t, status);
                 ended = 1;
             } else {
