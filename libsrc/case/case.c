@@ -659,6 +659,28 @@ static int pours_in(const geo_shape *g, const double p[3], const double dir[3], 
     return 1;
 }
 
+/* 1 if p lies beyond the bounding box of the mesh container g (a glass,
+ * a cup: its open top is not known) on a side from which the jet or
+ * gravity carries it towards the box: a vessel filled from above. */
+static int pours_into_mesh(const geo_shape *g, const double p[3], const double dir[3],
+                           const double grav[3])
+{
+    double lo[3], hi[3];
+    int beyond = 0;
+    geo_bounds(g, 0.0, lo, hi);
+    for (int d = 0; d < 3; d++) {
+        if (p[d] < lo[d]) {
+            if (!(dir[d] > 0 || grav[d] > 0)) return 0;
+            beyond = 1;
+        }
+        if (p[d] > hi[d]) {
+            if (!(dir[d] < 0 || grav[d] < 0)) return 0;
+            beyond = 1;
+        }
+    }
+    return beyond;
+}
+
 /* An emitter must open into the fluid space: every point of its opening
  * inside the containers (or pouring in through an open face) and outside
  * the solids; else its particles fall outside the tank forever, or are
@@ -673,7 +695,8 @@ static void check_emitter_place(const sl_case *c, size_t k)
         for (s = 0; s < c->nshapes; s++) {
             const geo_shape *t = &c->shapes[s];
             if (geo_solid_distance(t, p) < 0.0 &&
-                !(t->kind == GEO_CONTAINER && pours_in(t, p, m->dir, c->prm.gravity)))
+                !(t->kind == GEO_CONTAINER && pours_in(t, p, m->dir, c->prm.gravity)) &&
+                !(t->kind == GEO_MESH && t->mesh_container && pours_into_mesh(t, p, m->dir, c->prm.gravity)))
                 break;
         }
         if (s == c->nshapes) continue;
