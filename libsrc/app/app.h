@@ -79,6 +79,14 @@ typedef struct app_option {
      "e.g. 0.5  0.5:1  :0.2  0.8:  0,0.5:1 (inclusive)",                                          \
      NULL, NULL, 0, 0, 0, 0, NULL},                                                               \
     {"latestTime", APP_NONE, NULL, "only the latest time", NULL, NULL, 0, 0, 0, 0, NULL}
+/* -jobs <N> (runs at a time, default the cores) and -threads <T> of the
+ * programs that run the solver several times (sweepCase, stableTimeStep). */
+#define APP_JOBS(what)                                                                            \
+    {.name = "jobs", .kind = APP_INT, .help = what, .def = "the number of cores", .min = 1,       \
+     .max = 4096}
+#define APP_THREADS(what, def_)                                                                   \
+    {.name = "threads", .kind = APP_INT, .arg = "<T>", .help = what, .def = def_, .min = 1,       \
+     .max = 4096}
 #define APP_END {NULL, APP_NONE, NULL, NULL, NULL, NULL, 0, 0, 0, 0, NULL}
 
 typedef struct app_info {
