@@ -121,9 +121,10 @@ const char *cf_plot_png_terminal(void);
 FILE *cf_plot_open(sl_err *err);
 /* Closes the pipe; nonzero (err filled) if gnuplot reported an error. */
 int cf_plot_close(FILE *p, sl_err *err);
-/* Runs `gnuplot <script>` in dir (stdin /dev/null); nonzero with err filled
- * if gnuplot is not installed or fails. */
-int cf_plot_script(const char *dir, const char *script, sl_err *err);
+/* Runs `gnuplot <script>` in dir (NULL: here; stdin /dev/null), or with
+ * args (NULL-terminated) `gnuplot -c <script> <args...>` (ARG1, ...);
+ * nonzero with err filled if gnuplot is not installed or fails. */
+int cf_plot_script(const char *dir, const char *script, const char *const *args, sl_err *err);
 /* Writes s as a gnuplot '...' string. */
 void cf_plot_string(FILE *p, const char *s);
 
