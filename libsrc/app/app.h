@@ -16,22 +16,24 @@
  *   - the hidden `-completionWords`: one line per option, "-name kind
  *     [glob]", then "@args kind", that etc/bash_completion asks for.
  *
- * A program (ten lines):
+ * A program (ten lines; designated initializers, so that -Wextra is quiet
+ * and the kind defaults to APP_NONE, a switch):
  *
  *   static const app_option options[] = {
  *       APP_CASE,
  *       APP_TIMES,
- *       {"jobs", APP_INT, "<N>", "cases run at a time", "the number of cores",
+ *       {.name = "jobs", .kind = APP_INT, .help = "cases run at a time", .def = "4",
  *        .min = 1, .max = 4096},
- *       {"dryRun", APP_NONE, NULL, "only print what would be removed", .aliases = "dry-run n"},
+ *       {.name = "dryRun", .help = "only print what would be removed", .aliases = "dry-run n"},
  *       APP_END};
- *   static const app_info info = {"cleanCase", "Removes the results of a case ...", options,
- *                                 .args = "[<case>]", .max_args = 1};
+ *   static const app_info info = {.name = "cleanCase", .what = "Removes the results ...",
+ *                                 .options = options, .args = "[<case>]", .max_args = 1};
  *   int main(int argc, char **argv) {
  *       app a;
  *       app_parse(&a, &info, argc, argv);
  *       int dry = app_found(&a, "dryRun");
  *       long jobs = app_int(&a, "jobs", 4);
+ *       const char *dir = a.nargs ? a.args[0] : app_case(&a);
  *       ...
  *       app_free(&a);
  *   }
