@@ -543,7 +543,7 @@ static void test_plot_sweep_where_errors(void **state)
     assert_non_null(strstr(output, "no row left by -where has finite numbers"));
     /* gnuplot fails (no positive x on a log axis) after the front was written */
     spit(PARETO "/negative.csv", "case,x,y\na,-1,2\nb,-2,1\n");
-    assert_int_not_equal(tool("plotSweep", "-pareto -logx " PARETO "/negative.csv x y", bin_dir()),
+    assert_int_not_equal(tool("plotSweep", "-pareto -logX " PARETO "/negative.csv x y", bin_dir()),
                          0);
     assert_non_null(strstr(output, "gnuplot failed"));
     assert_int_equal(run("ls -a " PARETO " | tr '\\n' ' '"), 0);

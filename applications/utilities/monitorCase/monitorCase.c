@@ -65,7 +65,7 @@ static const app_option table[] = {
              "(joined) record as -print writes it; e.g. etc/plotTimeStep.gp",
      .glob = "*.gp"},
     {.name = "once", .help = "draw once and exit"},
-    {.name = "logscale", .help = "logarithmic y axes"},
+    {.name = "logScale", .help = "logarithmic y axes", .aliases = "logscale"},
     {.name = "print", .help = "print the (joined) record as a table and exit"},
     APP_END};
 
@@ -95,7 +95,7 @@ static options parse_args(int argc, char **argv)
     o.refresh = app_double(&a, "refresh", 5);
     o.idle = app_double(&a, "idle", 0);
     o.once = app_found(&a, "once");
-    o.logy = app_found(&a, "logscale");
+    o.logy = app_found(&a, "logScale");
     o.print = app_found(&a, "print");
     app_free(&a);
     return o;
