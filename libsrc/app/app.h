@@ -4,8 +4,8 @@
  * the frame parses argv against it and gives
  *   - `-help`: the usage line, the options (with their defaults), then the
  *     description, all generated from the table;
- *   - checked values: `-jobs abc` stops with "sweepCase: -jobs: 'abc' is
- *     not an integer" and exit status 2, before anything is done; ranges
+ *   - checked values: `-jobs abc` stops with "Error: sweepCase: -jobs:
+ *     'abc' is not an integer" and exit status 2, before anything is done; ranges
  *     (min, max) are checked the same way;
  *   - unknown options refused with the nearest declared one ("did you mean
  *     -latestTime?"), missing arguments and options given twice refused;
@@ -132,6 +132,9 @@ const char *app_value_at(const app *a, const char *name, size_t i);
 
 /* -case, or the current directory ".". */
 const char *app_case(const app *a);
+/* The case of a program that also takes it as its one argument (listTimes,
+ * cleanCase): the argument, else -case, else "."; both is an error. */
+const char *app_case_or_arg(const app *a);
 
 /* The time directories of case_dir holding `marker` (e.g. "fluid.vtu")
  * that -time / -latestTime select (all without them); the first one (the
@@ -141,7 +144,7 @@ void app_times(const app *a, const char *case_dir, const char *marker, int with_
                tdir_list *out);
 
 /* A command-line error found by the program itself (e.g. two options that
- * exclude each other): "<program>: <message>", the usage line, exit 2. */
+ * exclude each other): "Error: <program>: <message>", the usage line, exit 2. */
 void app_error(const app *a, const char *fmt, ...) __attribute__((format(printf, 2, 3), noreturn));
 
 /* The help text and the completion words, as -help and -completionWords

@@ -9,6 +9,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include "hostile_table.h"
 #include "tool_run.h"
 
 #include "core/sl_progress.h"
@@ -835,6 +836,9 @@ static void test_app_bad_number_refused(void **state)
         if (rc != 2 || !strstr(output, bad[i][2]))
             fail_msg("%s %s: status %d, output\n%s\n(wanted '%s')", bad[i][0], bad[i][1], rc,
                      output, bad[i][2]);
+        char input[256];
+        snprintf(input, sizeof input, "%s %s", bad[i][0], bad[i][1]);
+        hostile_record("command line", input, output);
         snprintf(want, sizeof want, "Usage: %s [options]", bad[i][0]);
         assert_non_null(strstr(output, want));
     }
@@ -875,6 +879,9 @@ static void test_app_unknown_did_you_mean(void **state)
         int rc = run("%s/%s %s", bin_dir(), bad[i][0], bad[i][1]);
         if (rc != 2 || !strstr(output, bad[i][2]))
             fail_msg("%s %s: status %d, output\n%s", bad[i][0], bad[i][1], rc, output);
+        char input[256];
+        snprintf(input, sizeof input, "%s %s", bad[i][0], bad[i][1]);
+        hostile_record("command line", input, output);
     }
     /* twice, missing and extra arguments */
     assert_int_equal(tool("listTimes", "-case a -case b", bin_dir()), 2);
@@ -883,6 +890,8 @@ static void test_app_unknown_did_you_mean(void **state)
     assert_non_null(strstr(output, "cloneCase: missing argument: <source case> <new case>"));
     assert_int_equal(tool("cloneCase", "a b c", bin_dir()), 2);
     assert_non_null(strstr(output, "cloneCase: unexpected argument 'c'"));
+    assert_int_equal(tool("cleanCase", "-case a b", bin_dir()), 2);
+    assert_non_null(strstr(output, "give the case as -case or as the argument, not both"));
     assert_int_equal(tool("postProcess", "-time 1 -latestTime", bin_dir()), 2);
     assert_non_null(strstr(output, "give -time or -latestTime, not both"));
 }
