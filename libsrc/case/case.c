@@ -10,10 +10,16 @@
 #include "boundary/bnd_methods.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+
+/* eta (in % of rho0) above which a warning asks whether it is a mistake */
+#define CASE_ETA_WARN 10.0
+/* |gravity| (m/s^2) above which a warning asks about units (cm/s^2?) */
+#define CASE_GRAVITY_WARN 100.0
 
 /* ---- error helpers: every failure names file, line and key ---- */
 
@@ -28,7 +34,28 @@ static dict *read_dict(const sl_case *c, const char *rel)
     dict *d = dict_read_file(path, &err);
     free(path);
     if (!d) sl_fatal("%s", err.msg);
+    dict_warn_duplicates(d);
     return d;
+}
+
+static void set_where(case_where *w, const dict_entry *e)
+{
+    snprintf(w->text, sizeof w->text, "%s:%d", dict_entry_file(e), dict_entry_line(e));
+}
+
+/* "<file>:<line>: keyword '<key>': <why>" as a warning: legal, but almost
+ * surely not what the user meant. */
+static void warn_value(const dict *d, const char *key, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static void warn_value(const dict *d, const char *key, const char *fmt, ...)
+{
+    char why[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(why, sizeof why, fmt, ap);
+    va_end(ap);
+    const dict_entry *e = dict_lookup(d, key);
+    sl_warning("%s:%d: keyword '%s': %s", dict_entry_file(e), dict_entry_line(e), key, why);
 }
 
 /* Stop with "<file>:<line>: keyword '<key>': <why>". */
@@ -86,14 +113,19 @@ static void read_controls(sl_case *c)
     k->ascii = choose(d, "writeFormat", w, format_choices);
     need(dict_get_bool_or(d, "writeCompression", 1, &k->compress, &err), &err);
     need(dict_get_int_or(d, "timePrecision", 6, &l, &err), &err);
-    if (l < 1 || l > 17) bad_value(d, "timePrecision", "must be between 1 and 17");
+    if (l < 1 || l > 17) bad_value(d, "timePrecision", "must be between 1 and 17 digits");
     k->time_precision = (int)l;
     need(dict_get_int_or(d, "purgeWrite", 0, &l, &err), &err);
     if (l < 0) bad_value(d, "purgeWrite", "must be 0 (keep all) or a positive count");
     k->purge_write = (int)l;
     need(dict_get_int_or(d, "numberOfThreads", 0, &l, &err), &err);
-    if (l < 0 || l > 4096) bad_value(d, "numberOfThreads", "must be 0 (all cores) or a thread count");
+    if (l < 0 || l > 4096)
+        bad_value(d, "numberOfThreads", "must be 0 (all cores) or a thread count from 1 to 4096");
     k->nthreads = (int)l;
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    if (cores > 0 && l > cores)
+        warn_value(d, "numberOfThreads", "%ld threads on a machine with %ld cores run slower "
+                   "than %ld (0 uses all cores)", l, cores, cores);
     need(dict_get_bool_or(d, "writeBoundary", 1, &k->write_boundary, &err), &err);
     dict_free(d);
 }
@@ -134,7 +166,7 @@ static const char *const region_keys[] = {"type", "min", "max", "centre", "radiu
                                           "point2", "file", "scale", "rotate", "translate",
                                           "velocity", NULL};
 
-static void read_region(sl_case *c, const dict *r)
+static void read_region(sl_case *c, const dict *r, const dict_entry *at)
 {
     static const char *const types[] = {"box", "sphere", "cylinder", "mesh", NULL};
     static const geo_kind kinds[] = {GEO_BOX, GEO_SPHERE, GEO_CYLINDER, GEO_MESH};
@@ -149,6 +181,7 @@ static void read_region(sl_case *c, const dict *r)
     g = &c->regions[c->nregions++];
     memset(g, 0, sizeof *g);
     snprintf(g->name, sizeof g->name, "%s", dict_name(r));
+    set_where(&g->where, at);
     read_shape_geometry(c, r, &g->shape, kinds[kind], 1);
     need(dict_get_vector_or(r, "velocity", zero, g->velocity, &err), &err);
 }
@@ -156,7 +189,7 @@ static void read_region(sl_case *c, const dict *r)
 static const char *const emitter_keys[] = {"type", "centre", "direction", "size", "radius",
                                            "speed", "startTime", "endTime", NULL};
 
-static void read_emitter(sl_case *c, const dict *e)
+static void read_emitter(sl_case *c, const dict *e, const dict_entry *at)
 {
     static const char *const types[] = {"rectangle", "disc", NULL};
     sl_err err;
@@ -166,6 +199,9 @@ static void read_emitter(sl_case *c, const dict *e)
     need(dict_get_word(e, "type", &w, &err), &err);
     int disc = choose(e, "type", w, types);
     c->emitters = sl_realloc(c->emitters, (c->nemitters + 1) * sizeof *c->emitters, "emitters");
+    c->emitter_where = sl_realloc(c->emitter_where, (c->nemitters + 1) * sizeof *c->emitter_where,
+                                  "emitters");
+    set_where(&c->emitter_where[c->nemitters], at);
     m = &c->emitters[c->nemitters++];
     memset(m, 0, sizeof *m);
     snprintf(m->name, sizeof m->name, "%s", dict_name(e));
@@ -215,14 +251,28 @@ static void read_fluid(sl_case *c)
     need(dict_get_scalar(d, "particleSpacing", &p->r0, &err), &err);
     positive(d, "particleSpacing", p->r0);
     need(dict_get_vector_or(d, "gravity", g0, p->gravity, &err), &err);
+    double gn = sqrt(p->gravity[0] * p->gravity[0] + p->gravity[1] * p->gravity[1] +
+                     p->gravity[2] * p->gravity[2]);
+    if (gn > CASE_GRAVITY_WARN)
+        warn_value(d, "gravity", "|g| = %g m/s^2 is more than %g times the Earth's 9.81: "
+                   "wrong units?", gn, CASE_GRAVITY_WARN / 9.81);
     need(dict_get_scalar_or(d, "eta", 1.0, &eta, &err), &err);
-    if (!(eta > 0.0 && eta < 100.0)) bad_value(d, "eta", "must be a percentage between 0 and 100");
+    if (!(eta > 0.0 && eta < 100.0))
+        bad_value(d, "eta", "must be a percentage above 0 and below 100 (the paper uses 1)");
+    if (eta > CASE_ETA_WARN)
+        warn_value(d, "eta", "%g %% of rho0 lets the fluid compress by that much (the paper "
+                   "uses 1 %%; above %g %% it is no longer a liquid): is it a percentage?",
+                   eta, CASE_ETA_WARN);
     p->eta = eta / 100.0;
     need(dict_get_int_or(d, "minIterations", 3, &l, &err), &err);
-    if (l < 1 || l > 1000) bad_value(d, "minIterations", "must be between 1 and 1000");
+    if (l < 1 || l > 1000) bad_value(d, "minIterations", "must be between 1 and 1000 (the paper uses 3)");
     p->min_iter = (int)l;
     need(dict_get_int_or(d, "maxIterations", 100, &l, &err), &err);
-    if (l < p->min_iter || l > 100000) bad_value(d, "maxIterations", "must be at least minIterations");
+    if (l < p->min_iter || l > 100000) {
+        char why[128];
+        snprintf(why, sizeof why, "must be between minIterations (%d) and 100000", p->min_iter);
+        bad_value(d, "maxIterations", why);
+    }
     p->max_iter = (int)l;
     /* the effects of the fluid, in the order they act: gravity first */
     void *g = eff_gravity_new(p->gravity);
@@ -237,7 +287,7 @@ static void read_fluid(sl_case *c)
             if (!dict_entry_dict(e))
                 sl_fatal("%s:%d: emitter '%s' must be a dictionary", dict_entry_file(e),
                          dict_entry_line(e), dict_entry_key(e));
-            read_emitter(c, dict_entry_dict(e));
+            read_emitter(c, dict_entry_dict(e), e);
         }
     }
     const dict *regions = dict_sub(d, "fluidRegions");
@@ -250,7 +300,7 @@ static void read_fluid(sl_case *c)
             sl_fatal("%s:%d: fluid region '%s' must be a dictionary", dict_entry_file(e),
                      dict_entry_line(e), dict_entry_key(e));
         }
-        read_region(c, r);
+        read_region(c, r, dict_entry_at(regions, i));
     }
     if (c->nregions == 0 && c->nemitters == 0)
         bad_value(d, "fluidRegions", "names no fluid region (and there is no emitter)");
@@ -259,7 +309,8 @@ static void read_fluid(sl_case *c)
 
 /* ---- constant/boundaryProperties ---- */
 
-static const char *const boundary_keys[] = {"method", "epsilon", "restitution", "geometry", NULL};
+static const char *const boundary_keys[] = {"method", "epsilon", "restitution", "geometry",
+                                            "periodic", NULL};
 static const char *const shape_keys[] = {"type", "min", "max", "centre", "radius", "open",
                                          "point1", "point2", "origin", "edge1", "edge2",
                                          "file", "scale", "rotate", "translate", "side",
@@ -414,8 +465,112 @@ static void read_boundary(sl_case *c)
     dict_free(d);
 }
 
+/* The period along axis a: the extent of the first container, whose
+ * faces across a must be open; every other shape inside it. */
+static void periodic_extent(sl_case *c, const dict *d, int a)
+{
+    const char *ax = (const char *[]){"x", "y", "z"}[a];
+    const unsigned faces = (unsigned)(3u << (2 * a));
+    const geo_shape *box = NULL;
+    char why[512];
+    for (size_t s = 0; s < c->nshapes && !box; s++)
+        if (c->shapes[s].kind == GEO_CONTAINER) box = &c->shapes[s];
+    if (!box)
+        bad_value(d, "periodic", "needs a container (with open faces across the periodic axis) "
+                                 "to give the period");
+    if ((box->open_faces & faces) != faces) {
+        snprintf(why, sizeof why, "axis %s: container '%s' has walls across it; open both faces "
+                 "(open (%sMin %sMax);) to make %s periodic", ax, box->name, ax, ax, ax);
+        bad_value(d, "periodic", why);
+    }
+    const double lo = box->lo[a], hi = box->hi[a], len = hi - lo, r0 = c->prm.r0;
+    const double k = len / r0;
+    if (fabs(k - round(k)) > 1e-6 * fmax(k, 1.0)) {
+        snprintf(why, sizeof why, "axis %s: the period (container '%s', %g m) must be a whole "
+                 "number of particle spacings (%g m), here %.6g; make it %g or %g m", ax,
+                 box->name, len, r0, k, floor(k) * r0, ceil(k) * r0);
+        bad_value(d, "periodic", why);
+    }
+    if (len < 4.0 * r0 * (1.0 - 1e-9)) {
+        snprintf(why, sizeof why, "axis %s: the period (%g m) must be at least the support "
+                 "diameter 2 h = 4 particleSpacing (%g m)", ax, len, 4.0 * r0);
+        bad_value(d, "periodic", why);
+    }
+    const double tol = 1e-9 * len;
+    for (size_t s = 0; s < c->nshapes; s++) {
+        double slo[3], shi[3];
+        if (&c->shapes[s] == box) continue;
+        geo_bounds(&c->shapes[s], 0.0, slo, shi);
+        if (c->shapes[s].kind == GEO_PLANE) { slo[a] += r0; shi[a] -= r0; } /* geo_bounds pads planes */
+        if (c->shapes[s].kind == GEO_CONTAINER && (c->shapes[s].open_faces & faces) == faces &&
+            fabs(slo[a] - lo) <= tol && fabs(shi[a] - hi) <= tol)
+            continue;
+        if (slo[a] < lo - tol || shi[a] > hi + tol) {
+            snprintf(why, sizeof why, "axis %s: geometry '%s' (%g to %g) crosses the periodic "
+                     "face of container '%s' (%g to %g); keep it inside the period", ax,
+                     c->shapes[s].name, slo[a], shi[a], box->name, lo, hi);
+            bad_value(d, "periodic", why);
+        }
+    }
+    for (size_t r = 0; r < c->nregions; r++) {
+        double rlo[3], rhi[3];
+        geo_bounds(&c->regions[r].shape, 0.0, rlo, rhi);
+        if (rlo[a] < lo - tol || rhi[a] > hi + tol)
+            sl_fatal("%s/constant/fluidProperties: fluid region '%s' (%g to %g along %s) must lie "
+                     "inside the period %g to %g of 'periodic' in constant/boundaryProperties",
+                     c->dir, c->regions[r].name, rlo[a], rhi[a], ax, lo, hi);
+    }
+    c->prm.periodic.lo[a] = lo;
+    c->prm.periodic.hi[a] = hi;
+}
+
+/* periodic (x y);: the axes, and the period of each from the geometry. */
+static void read_periodic(sl_case *c, const char *rel)
+{
+    static const char *const axes[] = {"x", "y", "z", NULL};
+    dict *d = read_dict(c, rel);
+    char **words = NULL;
+    size_t n = 0;
+    sl_err err;
+    if (!dict_has(d, "periodic")) {
+        dict_free(d);
+        return;
+    }
+    need(dict_get_word_list(d, "periodic", &words, &n, &err), &err);
+    for (size_t i = 0; i < n; i++) {
+        c->prm.periodic.axes |= 1u << choose(d, "periodic", words[i], axes);
+        free(words[i]);
+    }
+    free(words);
+    if (!c->prm.periodic.axes) bad_value(d, "periodic", "names no axis (x, y or z)");
+    for (int a = 0; a < 3; a++)
+        if (c->prm.periodic.axes & (1u << a)) periodic_extent(c, d, a);
+    dict_free(d);
+}
+
+/* Where each top-level key of the case files belongs, so that `eta` in
+ * controlDict is reported as belonging in constant/fluidProperties. */
+static void register_key_homes(void)
+{
+    static const char *fluid[64];
+    static dict_key_home homes[5];
+    if (homes[0].where) return;
+    const char **k = fluid_and_effect_keys();
+    size_t n = 0;
+    while (k[n] && n + 1 < sizeof fluid / sizeof *fluid) { fluid[n] = k[n]; n++; }
+    fluid[n] = NULL;
+    free(k);
+    homes[0] = (dict_key_home){"system/controlDict", control_keys};
+    homes[1] = (dict_key_home){"system/timeStepDict", ts_keys()};
+    homes[2] = (dict_key_home){"constant/fluidProperties", fluid};
+    homes[3] = (dict_key_home){"constant/boundaryProperties", boundary_keys};
+    homes[4] = (dict_key_home){NULL, NULL};
+    dict_warn_set_homes(homes);
+}
+
 void case_read(sl_case *c, const char *dir)
 {
+    register_key_homes();
     memset(c, 0, sizeof *c);
     pcs_params_default(&c->prm);
     eff_set_init(&c->effects);
@@ -426,6 +581,7 @@ void case_read(sl_case *c, const char *dir)
     read_timestep(c);
     read_fluid(c);
     read_boundary(c);
+    read_periodic(c, "constant/boundaryProperties");
     void *moving = eff_moving_boundary_new(c->motions, c->nshapes);
     if (moving) eff_add(&c->effects, &eff_moving_boundary, moving);
     sl_err err;
@@ -476,6 +632,82 @@ static void build_status(sl_progress *p, const char *what, const char *name, siz
     sl_progress_update(p, (double)k, text);
 }
 
+/* The names of the containers ("'tank'", "'tank', 'glass'"), for messages. */
+static const char *container_names(const sl_case *c)
+{
+    static char buf[256];
+    size_t off = 0;
+    buf[0] = 0;
+    for (size_t s = 0; s < c->nshapes && off < sizeof buf; s++) {
+        const geo_shape *g = &c->shapes[s];
+        if (g->kind == GEO_CONTAINER || (g->kind == GEO_MESH && g->mesh_container))
+            off += (size_t)snprintf(buf + off, sizeof buf - off, "%s'%s'", off ? ", " : "", g->name);
+    }
+    return buf;
+}
+
+/* 1 if p, outside the box container g, lies beyond open faces only and
+ * the jet (or gravity) carries it in through them: a tank filled from
+ * above its open top. */
+static int pours_in(const geo_shape *g, const double p[3], const double dir[3], const double grav[3])
+{
+    for (int d = 0; d < 3; d++) {
+        unsigned fmin = 1u << (2 * d), fmax = 1u << (2 * d + 1);
+        if (p[d] < g->lo[d] && !((g->open_faces & fmin) && (dir[d] > 0 || grav[d] > 0))) return 0;
+        if (p[d] > g->hi[d] && !((g->open_faces & fmax) && (dir[d] < 0 || grav[d] < 0))) return 0;
+    }
+    return 1;
+}
+
+/* An emitter must open into the fluid space: every point of its opening
+ * inside the containers (or pouring in through an open face) and outside
+ * the solids; else its particles fall outside the tank forever, or are
+ * born inside a wall. */
+static void check_emitter_place(const sl_case *c, size_t k)
+{
+    const emt_emitter *m = &c->emitters[k];
+    for (size_t q = 0; q < m->np; q++) {
+        double p[3];
+        size_t s = 0;
+        for (int d = 0; d < 3; d++) p[d] = m->centre[d] + m->pu[q] * m->u[d] + m->pv[q] * m->v[d];
+        for (s = 0; s < c->nshapes; s++) {
+            const geo_shape *t = &c->shapes[s];
+            if (geo_solid_distance(t, p) < 0.0 &&
+                !(t->kind == GEO_CONTAINER && pours_in(t, p, m->dir, c->prm.gravity)))
+                break;
+        }
+        if (s == c->nshapes) continue;
+        const geo_shape *g = &c->shapes[s];
+        int outside = g->kind == GEO_CONTAINER || (g->kind == GEO_MESH && g->mesh_container);
+        sl_fatal("%s: emitter '%s' opens %s geometry '%s': its point (%g %g %g) is %s; move "
+                 "its centre (or make it smaller) so that the whole opening is in the fluid space",
+                 c->emitter_where[k].text, m->name, outside ? "outside the container" : "inside the solid",
+                 g->name, p[0], p[1], p[2], outside ? "beyond the walls" : "inside it");
+    }
+}
+
+/* The volume an emitter delivers before endTime, against the containers'
+ * volume: more than they hold is almost surely a wrong rate or time. */
+static void check_emitter_volume(const sl_case *c, size_t k)
+{
+    const emt_emitter *m = &c->emitters[k];
+    double t1 = fmin(m->t1, c->ctl.end_time), t0 = fmax(m->t0, c->ctl.start_time);
+    double area = (double)m->np * c->prm.r0 * c->prm.r0, vol = area * m->speed * fmax(t1 - t0, 0.0);
+    double tank = 0.0;
+    for (size_t s = 0; s < c->nshapes; s++) {
+        const geo_shape *g = &c->shapes[s];
+        if (g->kind == GEO_CONTAINER)
+            tank += (g->hi[0] - g->lo[0]) * (g->hi[1] - g->lo[1]) * (g->hi[2] - g->lo[2]);
+        else if (g->kind == GEO_MESH && g->mesh_container)
+            tank += fabs(mesh_volume(g->mesh));
+    }
+    if (tank > 0.0 && vol > tank)
+        sl_warning("%s: emitter '%s' delivers %.3g m^3 by t = %g s (%zu particles a layer, %g m/s) "
+                   "but the containers (%s) hold %.3g m^3: the fluid will overflow; check speed, "
+                   "startTime and endTime", c->emitter_where[k].text, m->name, vol, t1, m->np,
+                   m->speed, container_names(c), tank);
+}
+
 void case_build(sl_case *c)
 {
     const double r0 = c->prm.r0;
@@ -518,12 +750,18 @@ void case_build(sl_case *c)
                 t->hi[d] = mid + r0;
             }
     }
+    for (size_t e = 0; e < c->nemitters; e++) {
+        check_emitter_place(c, e);
+        check_emitter_volume(c, e);
+    }
     sl_progress_start(&prog, stderr, 0, (double)nparts, 10.0);
     for (size_t s = 0; s < c->nshapes; s++) {
         const geo_shape *g = &c->shapes[s];
         double lo[3], hi[3];
         build_status(&prog, "sampling geometry", g->name, s, nparts);
-        if (geo_sample(g, r0, (uint32_t)s, &c->boundary) == 0)
+        const int all_open = g->kind == GEO_CONTAINER && g->open_faces == 63u;
+        if (geo_sample(g, r0, (uint32_t)s, &c->boundary) == 0 &&
+            !(all_open && c->prm.periodic.axes)) /* a periodic box without walls */
             sl_fatal("%s/constant/boundaryProperties: geometry '%s' is too small to sample "
                      "with particleSpacing %g", c->dir, g->name, r0);
         geo_bounds(g, r0, lo, hi);
@@ -532,7 +770,14 @@ void case_build(sl_case *c)
     for (size_t r = 0; r < c->nregions; r++) {
         const case_region *g = &c->regions[r];
         build_status(&prog, "filling fluid region", g->name, c->nshapes + r, nparts);
-        size_t n = geo_fill_region(&g->shape, r0, g->velocity, c->shapes, c->nshapes, &c->fluid);
+        size_t lost = 0;
+        size_t n = geo_fill_region(&g->shape, r0, g->velocity, c->shapes, c->nshapes, &c->fluid,
+                                   &lost);
+        if (lost)
+            sl_fatal("%s: fluid region '%s' %s the container (%s): %zu of its particles would "
+                     "lie beyond the walls and be dropped; make the region fit inside",
+                     g->where.text, g->name, n ? "reaches outside" : "lies outside",
+                     container_names(c), lost);
         if (n == 0)
             sl_fatal("%s/constant/fluidProperties: fluid region '%s' holds no particle "
                      "(outside the container, inside an obstacle, or smaller than "
@@ -553,6 +798,11 @@ void case_build(sl_case *c)
         sl_fatal("%s: too many particles (%zu fluid, %zu boundary)", c->dir, c->fluid.n,
                  c->boundary.n);
     for (int k = 0; k < 3; k++) { c->lo[k] -= 2 * r0; c->hi[k] += 2 * r0; }
+    for (int k = 0; k < 3; k++) /* room for the periodic images (h beyond the faces) */
+        if (c->prm.periodic.axes & (1u << k)) {
+            c->lo[k] = fmin(c->lo[k], c->prm.periodic.lo[k] - 3 * r0);
+            c->hi[k] = fmax(c->hi[k], c->prm.periodic.hi[k] + 3 * r0);
+        }
     void *emit = eff_emitter_new(c->emitters, c->nemitters, (uint32_t)c->fluid.n);
     if (emit) eff_add(&c->effects, &eff_emitter, emit);
 }
@@ -568,6 +818,7 @@ void case_free(sl_case *c)
         if (c->regions[i].shape.mesh) { mesh_free(c->regions[i].shape.mesh); free(c->regions[i].shape.mesh); }
     for (size_t i = 0; i < c->nemitters; i++) emt_free(&c->emitters[i]);
     free(c->emitters);
+    free(c->emitter_where);
     for (size_t i = 0; i < c->nshapes; i++) mot_free(&c->motions[i]);
     free(c->motions);
     free(c->shapes);

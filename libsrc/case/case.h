@@ -37,8 +37,14 @@ typedef struct case_controls {
     int ascii, compress, time_precision, purge_write, nthreads, write_boundary;
 } case_controls;
 
+/* Where an entry was written, for messages: "<file>:<line>". */
+typedef struct case_where {
+    char text[320];
+} case_where;
+
 typedef struct case_region {
     char name[64];
+    case_where where;          /* of its entry in fluidRegions */
     geo_shape shape;           /* box, sphere, cylinder or closed mesh */
     double velocity[3];
 } case_region;
@@ -55,6 +61,7 @@ typedef struct sl_case {
     case_region *regions;
     size_t nregions;
     emt_emitter *emitters;     /* constant/fluidProperties: emitters { } */
+    case_where *emitter_where; /* of each emitter's entry */
     size_t nemitters;
     sl_fluid fluid;
     sl_boundary boundary;

@@ -206,6 +206,7 @@ dict_entry *dict_entry_copy(const dict_entry *e, dict *parent)
     dict_entry *c = dict_entry_new(sl_strdup(e->key), e->file, e->line, e->col);
     c->begin = e->begin;
     c->end = e->end;
+    c->copied = 1;
     if (e->sub) c->sub = dict_copy(e->sub, e->key, parent);
     if (e->ntok) c->tok = dict_tokens_copy(e->tok, e->ntok, parent);
     c->ntok = e->ntok;

@@ -7,10 +7,11 @@
  * "strings" with \" escapes, #include / #includeIfPresent (relative to the
  * including file's folder), $var / ${var} / $a/b / $:a/b / $../x macros,
  * `key $sub;` (copy a dictionary) and `$sub;` (merge its entries).  A
- * repeated key replaces the earlier value but keeps the earlier position.
+ * repeated key replaces the earlier value but keeps the earlier position
+ * (dict_warn_duplicates() reports it when both are written in one file).
  *
  * Every error is returned through an sl_err as "file:line:col: message";
- * nothing here exits or prints except dict_warn_unknown().  A parsed tree is
+ * nothing here exits or prints except the dict_warn_*() checks.  A parsed tree is
  * immutable, owned by the top-level dict and released with dict_free().
  * Pointers returned by lookups and dict_get_word() stay valid until then.
  */
@@ -100,8 +101,29 @@ int dict_get_vector_or(const dict *d, const char *key, const double def[3],
  * is not "FoamFile") print a warning
  *   "<file>:<line>: unknown keyword '<key>' in dictionary '<name>'; did you
  *    mean '<nearest>'?"  (the suggestion only when one is close).
+ * After DICT_WARN_MAX such lines the rest are counted in one line
+ *   "<file>: ... and 1499990 more unknown keywords in dictionary '<name>'".
  * Returns the number of unknown keys. */
+#define DICT_WARN_MAX 10
 int dict_warn_unknown(const dict *d, const char *const *valid);
+/* Where a key belongs instead: `where` (e.g. "constant/fluidProperties")
+ * and its NULL-terminated keys; an array of them ends with where == NULL. */
+typedef struct dict_key_home {
+    const char *where;
+    const char *const *keys;
+} dict_key_home;
+/* From now on, an unknown key of a top-level dictionary that is valid in one
+ * of `homes` (kept, not copied; NULL: none) is reported as
+ *   "<file>:<line>: unknown keyword 'eta' in dictionary 'controlDict': it
+ *    belongs in constant/fluidProperties (ignored here)".
+ * The case reader registers its files' keys. */
+void dict_warn_set_homes(const dict_key_home *homes);
+/* For each key written twice in one file and dictionary (d and every
+ * dictionary below it; not an override of an #include'd or $merged entry):
+ *   "<file>:<line>: keyword 'eta' in dictionary 'fluidProperties' is set
+ *    twice, at lines 4 and 9: the value of line 9 is used"
+ * (at most DICT_WARN_MAX lines, then a count).  Returns the number. */
+int dict_warn_duplicates(const dict *d);
 /* Nearest valid keyword by Levenshtein distance, NULL if none is within
  * max(2, strlen(key)/2). */
 const char *dict_nearest(const char *key, const char *const *valid);

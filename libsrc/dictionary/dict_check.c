@@ -59,23 +59,78 @@ static int dict_check_known(const char *key, const char *const *valid)
     return 0;
 }
 
+/* The other file a misplaced key belongs in (`eta` in controlDict), or NULL. */
+static const char *dict_check_home(const char *key, const dict_key_home *homes)
+{
+    for (size_t h = 0; homes && homes[h].where; h++)
+        if (dict_check_known(key, homes[h].keys) && strcmp(key, "FoamFile") != 0)
+            return homes[h].where;
+    return NULL;
+}
+
+static void dict_check_report(const dict *d, const dict_entry *e, const char *const *valid,
+                              const dict_key_home *homes)
+{
+    const char *home = dict_check_home(e->key, homes);
+    const char *near = home ? NULL : dict_nearest(e->key, valid);
+    if (home)
+        sl_warning("%s:%d: unknown keyword '%s' in dictionary '%s': it belongs in %s (ignored "
+                   "here)", e->file, e->line, e->key, d->name, home);
+    else if (near)
+        sl_warning("%s:%d: unknown keyword '%s' in dictionary '%s'; did you mean '%s'?",
+                   e->file, e->line, e->key, d->name, near);
+    else
+        sl_warning("%s:%d: unknown keyword '%s' in dictionary '%s'", e->file, e->line, e->key,
+                   d->name);
+}
+
 /* Entries used as $variables elsewhere are the user's macros (a resolution
- * knob, say) and are not reported. */
+ * knob, say) and are not reported.  After DICT_WARN_MAX lines the rest are
+ * counted in one closing line, so that a file of a million stray keys does
+ * not bury the log. */
+static const dict_key_home *dict_check_homes;
+
+void dict_warn_set_homes(const dict_key_home *homes) { dict_check_homes = homes; }
+
 int dict_warn_unknown(const dict *d, const char *const *valid)
 {
+    const dict_key_home *homes = d && !d->parent ? dict_check_homes : NULL;
     int unknown = 0;
+    const dict_entry *last = NULL;
     for (size_t i = 0; d && i < d->n; i++) {
         const dict_entry *e = d->entries[i];
-        const char *near;
         if (dict_check_known(e->key, valid) || e->referenced) continue;
-        unknown++;
-        near = dict_nearest(e->key, valid);
-        if (near)
-            sl_warning("%s:%d: unknown keyword '%s' in dictionary '%s'; did you mean '%s'?",
-                       e->file, e->line, e->key, d->name, near);
-        else
-            sl_warning("%s:%d: unknown keyword '%s' in dictionary '%s'", e->file, e->line,
-                       e->key, d->name);
+        if (unknown++ < DICT_WARN_MAX) dict_check_report(d, e, valid, homes);
+        last = e;
     }
+    if (unknown > DICT_WARN_MAX)
+        sl_warning("%s: ... and %d more unknown keywords in dictionary '%s' (the last at line "
+                   "%d)", d->file, unknown - DICT_WARN_MAX, d->name, last->line);
     return unknown;
+}
+
+/* Duplicates in d and below it; *shown counts the lines printed so far. */
+static int dict_check_duplicates(const dict *d, int *shown)
+{
+    int n = 0;
+    for (size_t i = 0; d && i < d->n; i++) {
+        const dict_entry *e = d->entries[i];
+        if (e->prev_line > 0) {
+            n++;
+            if ((*shown)++ < DICT_WARN_MAX)
+                sl_warning("%s:%d: keyword '%s' in dictionary '%s' is set twice, at lines %d and "
+                           "%d: the value of line %d is used", e->file, e->line, e->key, d->name,
+                           e->prev_line, e->line, e->line);
+        }
+        if (e->sub) n += dict_check_duplicates(e->sub, shown);
+    }
+    return n;
+}
+
+int dict_warn_duplicates(const dict *d)
+{
+    int shown = 0, n = dict_check_duplicates(d, &shown);
+    if (n > DICT_WARN_MAX)
+        sl_warning("%s: ... and %d more keywords set twice", d ? d->file : "?", n - DICT_WARN_MAX);
+    return n;
 }

@@ -38,6 +38,9 @@ struct dict_entry {
     dict_token *tok;  /* ... otherwise the value tokens */
     size_t ntok;
     int referenced;   /* named by a $variable: a user's macro, not unknown */
+    int copied;       /* made by $var or a `$sub;` merge, not written here */
+    int prev_line;    /* > 0: the same key was written before in the same file
+                         and dictionary, at this line (dict_warn_duplicates) */
 };
 
 /* File names referred to by entries and tokens, owned by the top level so

@@ -26,13 +26,20 @@ int dict_parse_error(const dict_lexer *lx, int line, int col, const char *fmt, .
     return -1;
 }
 
+/* A key written twice in one file and dictionary is most likely a
+ * copy-paste mistake: the later line is marked for dict_warn_duplicates.
+ * Overriding what an #include or a `$sub;` merge brought in is the usual
+ * OpenFOAM idiom and is not marked. */
 void dict_parse_add(const dict_lexer *lx, dict *d, dict_entry *e)
 {
     /* An included file's header describes that file, not the including one. */
-    if (lx->is_include && d == lx->top && strcmp(e->key, "FoamFile") == 0)
+    if (lx->is_include && d == lx->top && strcmp(e->key, "FoamFile") == 0) {
         dict_entry_free(e);
-    else
-        dict_insert(d, e);
+        return;
+    }
+    const dict_entry *old = dict_find_local(d, e->key, strlen(e->key));
+    if (old && !old->copied && old->file == e->file) e->prev_line = old->line;
+    dict_insert(d, e);
 }
 
 /* ---- files --------------------------------------------------------------- */

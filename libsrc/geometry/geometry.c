@@ -279,14 +279,22 @@ void geo_bounds(const geo_shape *s, double r0, double lo[3], double hi[3])
 }
 
 
+/* 1 if p lies beyond the walls of a container (box or mesh): a region
+ * point dropped there is fluid the user asked for that is lost. */
+static int beyond_container(const geo_shape *s, double d)
+{
+    return d < 0.0 && (s->kind == GEO_CONTAINER || (s->kind == GEO_MESH && s->mesh_container));
+}
+
 /* The lattice of spacing r0 over [lo, hi] (first point at lo + r0/2),
- * keeping points at least r0/2 inside `region` and r0/2 from every solid. */
+ * keeping points at least r0/2 inside `region` and r0/2 from every solid;
+ * *outside (may be NULL) counts the points dropped beyond a container. */
 static size_t fill_lattice(const geo_shape *region, const double lo[3], const double hi[3],
                            double r0, const double v[3], const geo_shape *shapes, size_t nshapes,
-                           sl_fluid *f)
+                           sl_fluid *f, size_t *outside)
 {
     long n[3];
-    size_t added = 0;
+    size_t added = 0, beyond = 0;
     const double keep = 0.5 * r0 * (1.0 - 1e-9);
     for (int d = 0; d < 3; d++) n[d] = (long)floor((hi[d] - lo[d]) / r0 + 1e-9);
     for (long k = 0; k < n[2]; k++)
@@ -296,12 +304,21 @@ static size_t fill_lattice(const geo_shape *region, const double lo[3], const do
                                lo[2] + ((double)k + 0.5) * r0};
                 if (geo_solid_distance(region, p) > -keep) continue; /* outside the region */
                 int ok = 1;
-                for (size_t s = 0; s < nshapes && ok; s++)
-                    if (geo_solid_distance(&shapes[s], p) < keep) ok = 0;
+                for (size_t s = 0; s < nshapes; s++) {
+                    double d = geo_solid_distance(&shapes[s], p);
+                    if (d >= keep) continue;
+                    ok = 0;
+                    if (beyond_container(&shapes[s], d)) {
+                        beyond++;
+                        break;
+                    }
+                    if (!outside) break;
+                }
                 if (!ok) continue;
                 prt_fluid_push(f, p[0], p[1], p[2], v[0], v[1], v[2]);
                 added++;
             }
+    if (outside) *outside = beyond;
     return added;
 }
 
@@ -313,15 +330,15 @@ size_t geo_fill_box(const double lo[3], const double hi[3], double r0, const dou
         box.lo[d] = lo[d];
         box.hi[d] = hi[d];
     }
-    return fill_lattice(&box, lo, hi, r0, v, shapes, nshapes, f);
+    return fill_lattice(&box, lo, hi, r0, v, shapes, nshapes, f, NULL);
 }
 
 size_t geo_fill_region(const geo_shape *region, double r0, const double v[3],
-                       const geo_shape *shapes, size_t nshapes, sl_fluid *f)
+                       const geo_shape *shapes, size_t nshapes, sl_fluid *f, size_t *outside)
 {
     double lo[3], hi[3];
     if (region->kind == GEO_BOX)
-        return geo_fill_box(region->lo, region->hi, r0, v, shapes, nshapes, f);
+        return fill_lattice(region, region->lo, region->hi, r0, v, shapes, nshapes, f, outside);
     geo_bounds(region, 0.0, lo, hi);
-    return fill_lattice(region, lo, hi, r0, v, shapes, nshapes, f);
+    return fill_lattice(region, lo, hi, r0, v, shapes, nshapes, f, outside);
 }

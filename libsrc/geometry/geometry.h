@@ -60,9 +60,13 @@ size_t geo_fill_box(const double lo[3], const double hi[3], double r0, const dou
 
 /* Fill the inside of a region shape (box, sphere, cylinder, mesh) with a
  * cubic lattice of spacing r0 anchored at the shape's bounds, keeping
- * points at least r0/2 inside the region and r0/2 away from every solid. */
+ * points at least r0/2 inside the region and r0/2 away from every solid.
+ * *outside (may be NULL) receives the number of lattice points dropped
+ * because they lie beyond the walls of a container (not merely within r0/2
+ * of them): fluid the region asks for that would be lost. */
 size_t geo_fill_region(const geo_shape *region, double r0, const double v[3],
-                       const geo_shape *shapes, size_t nshapes, sl_fluid *f);
+                       const geo_shape *shapes, size_t nshapes, sl_fluid *f, size_t *outside);
+
 
 /* Axis-aligned bounds of a shape's boundary particles (for the grid). */
 void geo_bounds(const geo_shape *s, double r0, double lo[3], double hi[3]);

@@ -88,7 +88,7 @@ static const bad_input bad_inputs[] = {
     {"constant/fluidProperties", "rho0 1000\nrho0 2;\n", NULL, "fluidProperties:4", "rho0"},
     {"constant/fluidProperties", NULL,
      "rho0 1000;\nparticleSpacing 0.02;\nfluidRegions { a { type box; min (5 5 5); max (6 6 6); } }\n",
-     "fluid region 'a'", "no particle"},
+     "fluidProperties:3: fluid region 'a' lies outside the container ('tank')", "beyond the walls"},
     {"constant/fluidProperties", NULL, "rho0 1000;\nparticleSpacing 0.02;\nfluidRegions { }\n",
      "fluidProperties", "fluidRegions"},
     {"constant/fluidProperties", NULL,
@@ -111,6 +111,21 @@ static const bad_input bad_inputs[] = {
      "boundaryProperties:2", "min"},
     {"constant/fluidProperties", "#include \"nowhere\"\n", NULL, "fluidProperties:4", "nowhere"},
     {"constant/fluidProperties", "x $undefinedVariable;\n", NULL, "fluidProperties:4", "undefinedVariable"},
+    /* issue 13, item 9: a region reaching out of the tank (z to 1.2 in a
+     * 0.8 m tank) is refused, naming file, line and region */
+    {"constant/fluidProperties", NULL,
+     "rho0 1000;\nparticleSpacing 0.02;\nfluidRegions { a { type box; min (0 0 0); max (0.4 0.6 1.2); } }\n",
+     "fluidProperties:3: fluid region 'a' reaches outside the container ('tank')", "beyond the walls"},
+    {"constant/fluidProperties", NULL,
+     "rho0 1000;\nparticleSpacing 0.02;\nfluidRegions { b { type sphere; centre (1.5 0.3 0.4); radius 0.2; } }\n",
+     "fluidProperties:3: fluid region 'b' reaches outside", "'tank'"},
+    /* item 10: an emitter outside the tank, or inside a solid */
+    {"constant/fluidProperties",
+     "emitters { jet { type disc; centre (2 0.3 0.5); direction (0 0 -1); radius 0.05; speed 1; } }\n",
+     NULL, "fluidProperties:4: emitter 'jet' opens outside the container geometry 'tank'", "beyond the walls"},
+    /* item 16: the messages say the limits */
+    {"system/controlDict", "numberOfThreads 5000;\n", NULL, "controlDict:3", "from 1 to 4096"},
+    {"constant/fluidProperties", "eta 100;\n", NULL, "fluidProperties:4", "below 100"},
 };
 
 /* Each bad input: non-zero exit, the message names file/line and key, and
@@ -174,6 +189,149 @@ static void test_unknown_key_warning(void **state)
     assert_non_null(strstr(msg, "'writeInterval'"));
 }
 
+/* ---- issue 13: warnings and refusals that need more than one file ---- */
+
+/* Runs `setup` (shell, in the fresh minimal case `dir`), then `tool`
+ * (sampleBoundary reads and builds the case without running it; pcisph
+ * runs to endTime 1); returns its exit status, stderr in msg. */
+static int run_minimal(const char *dir, const char *setup, const char *tool, char *msg, size_t len)
+{
+    char cmd[8192];
+    write_minimal(dir);
+    snprintf(cmd, sizeof cmd, "cd %s && %s", dir, setup);
+    sh(cmd);
+    snprintf(cmd, sizeof cmd, "%s/%s -case %s %s > %s/out.txt 2> %s/err.txt", bin_dir(), tool, dir,
+             strcmp(tool, "pcisph") ? "" : "-quiet", dir, dir);
+    int rc = system(cmd);
+    snprintf(cmd, sizeof cmd, "%s/err.txt", dir);
+    FILE *f = fopen(cmd, "r");
+    assert_non_null(f);
+    size_t n = fread(msg, 1, len - 1, f);
+    msg[n] = 0;
+    fclose(f);
+    return rc;
+}
+
+static size_t count_of(const char *text, const char *part)
+{
+    size_t n = 0;
+    for (const char *at = text; (at = strstr(at, part)) != NULL; at += strlen(part)) n++;
+    return n;
+}
+
+typedef struct warned_input {
+    const char *what;    /* for the table */
+    const char *setup;   /* shell commands in the minimal case */
+    const char *expect1; /* substrings the warning must contain */
+    const char *expect2;
+} warned_input;
+
+/* Legal input that is almost surely a mistake: the run goes on, with a
+ * warning naming file, line and key (items 13, 16 and their siblings). */
+static const warned_input warned_inputs[] = {
+    {"eta 1; ... eta 5; (a key set twice)",
+     "printf 'eta 1;\nminIterations 3;\neta 5;\n' >> constant/fluidProperties",
+     "fluidProperties:6: keyword 'eta' in dictionary 'fluidProperties' is set twice, at lines 4 and 6",
+     "the value of line 6 is used"},
+    {"a fluid region named twice",
+     "printf 'fluidRegions { a { type box; min (0 0 0); max (0.2 0.2 0.2); }\n"
+     " a { type box; min (1 0 0); max (1.2 0.2 0.2); } }\n' >> constant/fluidProperties",
+     "fluidProperties:5: keyword 'a' in dictionary 'fluidRegions' is set twice, at lines 4 and 5", ""},
+    {"eta 0.5; in system/controlDict", "echo 'eta 0.5;' >> system/controlDict",
+     "controlDict:3: unknown keyword 'eta' in dictionary 'controlDict'",
+     "belongs in constant/fluidProperties"},
+    {"deltaT 0.001; in system/controlDict", "echo 'deltaT 0.001;' >> system/controlDict",
+     "controlDict:3: unknown keyword 'deltaT'", "belongs in system/timeStepDict"},
+    {"eta 50;", "echo 'eta 50;' >> constant/fluidProperties", "fluidProperties:4: keyword 'eta': 50 %",
+     "is it a percentage?"},
+    {"gravity (0 0 -981); (cm/s^2)", "echo 'gravity (0 0 -981);' >> constant/fluidProperties",
+     "fluidProperties:4: keyword 'gravity'", "wrong units?"},
+    {"numberOfThreads 4000; on a machine with fewer cores",
+     "echo 'numberOfThreads 4000;' >> system/controlDict", "controlDict:3: keyword 'numberOfThreads'",
+     "cores run slower"},
+    {"an emitter that delivers more than the tank holds",
+     "echo 'emitters { jet { type disc; centre (1 0.3 0.5); direction (0 0 -1); radius 0.1; "
+     "speed 100; } }' >> constant/fluidProperties",
+     "fluidProperties:4: emitter 'jet' delivers", "the fluid will overflow"},
+};
+
+static void test_warned_inputs(void **state)
+{
+    (void)state;
+    const char *dir = "tests/output/case_warned";
+    static char msg[1 << 16];
+    for (size_t k = 0; k < sizeof warned_inputs / sizeof *warned_inputs; k++) {
+        const warned_input *w = &warned_inputs[k];
+        int rc = run_minimal(dir, w->setup, "sampleBoundary", msg, sizeof msg);
+        if (rc != 0 || !strstr(msg, w->expect1) || !strstr(msg, w->expect2) ||
+            !strstr(msg, "Warning:"))
+            fail_msg("'%s': exit %d, wanted a warning with '%s' and '%s'; got: %.600s", w->what, rc,
+                     w->expect1, w->expect2, msg);
+        hostile_record("warned (the run goes on)", w->what, msg);
+    }
+}
+
+/* Overriding what an #include brought in is OpenFOAM's idiom: no warning;
+ * neither for `$sub;` merged entries nor for a key set once. */
+static void test_override_is_not_a_duplicate(void **state)
+{
+    (void)state;
+    static char msg[1 << 16];
+    int rc = run_minimal("tests/output/case_override",
+                         "echo 'eta 1; minIterations 3;' > constant/defaults && "
+                         "(echo '#include \"defaults\"'; echo 'eta 2;'; echo 'base { alpha 0.1; }'; "
+                         "echo 'viscosity { $base; alpha 0.2; soundSpeed 20; }') "
+                         ">> constant/fluidProperties",
+                         "sampleBoundary", msg, sizeof msg);
+    if (rc != 0 || strstr(msg, "twice") || strstr(msg, "Error"))
+        fail_msg("exit %d, message: %s", rc, msg);
+}
+
+/* Item 15: 20000 unknown keys give a few lines and a count, not 20000. */
+static void test_unknown_keys_capped(void **state)
+{
+    (void)state;
+    static char msg[1 << 16];
+    int rc = run_minimal("tests/output/case_manykeys",
+                         "awk 'BEGIN { for (i = 0; i < 20000; i++) printf \"stray%d 1;\\n\", i }' "
+                         ">> system/controlDict",
+                         "sampleBoundary", msg, sizeof msg);
+    assert_int_equal(rc, 0);
+    size_t lines = count_of(msg, "unknown keyword 'stray");
+    if (lines < 1 || lines > 10) fail_msg("%zu unknown-key lines: %.2000s", lines, msg);
+    assert_non_null(strstr(msg, "... and 19990 more unknown keywords in dictionary 'controlDict' "
+                                "(the last at line 20002)"));
+    hostile_record("warned (the run goes on)", "20000 unknown keys in system/controlDict", 
+                   strstr(msg, "Warning: ") ? strstr(msg, "... and") : msg);
+}
+
+/* Item 10: an emitter inside a solid is refused; one above an open top,
+ * pouring in, is accepted. */
+static void test_emitter_places(void **state)
+{
+    (void)state;
+    static char msg[1 << 16];
+    const char *jet = "echo 'emitters { jet { type disc; centre (1.1 0.3 0.5); direction (0 0 -1); "
+                      "radius 0.05; speed 1; } }' >> constant/fluidProperties && ";
+    char setup[2048];
+    snprintf(setup, sizeof setup,
+             "%s echo 'geometry { tank { type container; min (0 0 0); max (1.6 0.6 0.8); } "
+             "post { type box; min (1 0.2 0); max (1.2 0.4 0.7); } }' >> constant/boundaryProperties",
+             jet);
+    int rc = run_minimal("tests/output/case_emitter", setup, "pcisph", msg, sizeof msg);
+    if (rc == 0 || !strstr(msg, "fluidProperties:4: emitter 'jet' opens inside the solid geometry 'post'"))
+        fail_msg("exit %d, message: %s", rc, msg);
+    assert_null(strstr(msg, "Progress"));
+    hostile_record("constant/fluidProperties", "an emitter inside an obstacle", msg);
+    rc = run_minimal("tests/output/case_emitter",
+                     "echo 'emitters { jet { type disc; centre (1.1 0.3 1.0); direction (0 0 -1); "
+                     "radius 0.05; speed 1; } }' >> constant/fluidProperties && "
+                     "echo 'geometry { tank { type container; min (0 0 0); max (1.6 0.6 0.8); "
+                     "open (zMax); } }' >> constant/boundaryProperties",
+                     "sampleBoundary", msg, sizeof msg);
+    if (rc != 0) fail_msg("a jet pouring in through the open top was refused: %s", msg);
+}
+
 int main(void)
 {
     sl_log_set_quiet(1);
@@ -181,6 +339,10 @@ int main(void)
         cmocka_unit_test(test_etc_defaults_are_compiled_defaults),
         cmocka_unit_test(test_bad_input_table),
         cmocka_unit_test(test_unknown_key_warning),
+        cmocka_unit_test(test_warned_inputs),
+        cmocka_unit_test(test_override_is_not_a_duplicate),
+        cmocka_unit_test(test_unknown_keys_capped),
+        cmocka_unit_test(test_emitter_places),
     };
     return cmocka_run_group_tests_name("case", tests, NULL, NULL);
 }

@@ -127,8 +127,14 @@ static void print_world(const run *r, const char *dt_rule)
     const pcs_solver *s = &r->s;
     sl_info("Case %s", c->dir);
     sl_info("  fluid particles     %zu", c->fluid.n);
-    sl_info("  boundary particles  %zu (%zu shapes, method %s)", c->boundary.n, c->nshapes,
-            c->prm.method->name);
+    sl_info("  boundary particles  %zu (%zu shapes, method %s)", c->boundary.n - c->boundary.nimages,
+            c->nshapes, c->prm.method->name);
+    if (c->prm.periodic.axes) {
+        char ax[8];
+        dom_periodic_axes_text(c->prm.periodic.axes, ax, sizeof ax);
+        sl_info("  periodic            %s (%zu boundary images; fluid images every step)", ax,
+                c->boundary.nimages);
+    }
     sl_info("  particle spacing r0 %g m, support radius h %g m", c->prm.r0, s->h);
     sl_info("  particle mass       %g kg (rho0 r0^3), rho0 %g kg/m^3", s->mass, c->prm.rho0);
     sl_info("  boundary mass       gamma %.6f (Akinci volume x gamma), static density factor %.6f",
