@@ -72,7 +72,7 @@ static void app_verror(const app_info *info, const char *fmt, va_list ap)
 static void app_verror(const app_info *info, const char *fmt, va_list ap)
 {
     fflush(stdout);
-    fprintf(stderr, "%s: ", info->name);
+    fprintf(stderr, "Error: %s: ", info->name);
     vfprintf(stderr, fmt, ap);
     fputc('\n', stderr);
     app_usage_line(info, stderr);
@@ -277,6 +277,13 @@ double app_double(const app *a, const char *name, double def)
 const char *app_case(const app *a)
 {
     return app_string(a, "case", ".");
+}
+
+const char *app_case_or_arg(const app *a)
+{
+    if (a->nargs && app_found(a, "case"))
+        app_error(a, "give the case as -case or as the argument, not both");
+    return a->nargs ? a->args[0] : app_case(a);
 }
 
 void app_times(const app *a, const char *case_dir, const char *marker, int with_first,

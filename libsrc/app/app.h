@@ -4,8 +4,8 @@
  * the frame parses argv against it and gives
  *   - `-help`: the usage line, the options (with their defaults), then the
  *     description, all generated from the table;
- *   - checked values: `-jobs abc` stops with "sweepCase: -jobs: 'abc' is
- *     not an integer" and exit status 2, before anything is done; ranges
+ *   - checked values: `-jobs abc` stops with "Error: sweepCase: -jobs:
+ *     'abc' is not an integer" and exit status 2, before anything is done; ranges
  *     (min, max) are checked the same way;
  *   - unknown options refused with the nearest declared one ("did you mean
  *     -latestTime?"), missing arguments and options given twice refused;
@@ -16,22 +16,24 @@
  *   - the hidden `-completionWords`: one line per option, "-name kind
  *     [glob]", then "@args kind", that etc/bash_completion asks for.
  *
- * A program (ten lines):
+ * A program (ten lines; designated initializers, so that -Wextra is quiet
+ * and the kind defaults to APP_NONE, a switch):
  *
  *   static const app_option options[] = {
  *       APP_CASE,
  *       APP_TIMES,
- *       {"jobs", APP_INT, "<N>", "cases run at a time", "the number of cores",
+ *       {.name = "jobs", .kind = APP_INT, .help = "cases run at a time", .def = "4",
  *        .min = 1, .max = 4096},
- *       {"dryRun", APP_NONE, NULL, "only print what would be removed", .aliases = "dry-run n"},
+ *       {.name = "dryRun", .help = "only print what would be removed", .aliases = "dry-run n"},
  *       APP_END};
- *   static const app_info info = {"cleanCase", "Removes the results of a case ...", options,
- *                                 .args = "[<case>]", .max_args = 1};
+ *   static const app_info info = {.name = "cleanCase", .what = "Removes the results ...",
+ *                                 .options = options, .args = "[<case>]", .max_args = 1};
  *   int main(int argc, char **argv) {
  *       app a;
  *       app_parse(&a, &info, argc, argv);
  *       int dry = app_found(&a, "dryRun");
  *       long jobs = app_int(&a, "jobs", 4);
+ *       const char *dir = a.nargs ? a.args[0] : app_case(&a);
  *       ...
  *       app_free(&a);
  *   }
@@ -79,6 +81,14 @@ typedef struct app_option {
      "e.g. 0.5  0.5:1  :0.2  0.8:  0,0.5:1 (inclusive)",                                          \
      NULL, NULL, 0, 0, 0, 0, NULL},                                                               \
     {"latestTime", APP_NONE, NULL, "only the latest time", NULL, NULL, 0, 0, 0, 0, NULL}
+/* -jobs <N> (runs at a time, default the cores) and -threads <T> of the
+ * programs that run the solver several times (sweepCase, stableTimeStep). */
+#define APP_JOBS(what)                                                                            \
+    {.name = "jobs", .kind = APP_INT, .help = what, .def = "the number of cores", .min = 1,       \
+     .max = 4096}
+#define APP_THREADS(what, def_)                                                                   \
+    {.name = "threads", .kind = APP_INT, .arg = "<T>", .help = what, .def = def_, .min = 1,       \
+     .max = 4096}
 #define APP_END {NULL, APP_NONE, NULL, NULL, NULL, NULL, 0, 0, 0, 0, NULL}
 
 typedef struct app_info {
@@ -122,6 +132,9 @@ const char *app_value_at(const app *a, const char *name, size_t i);
 
 /* -case, or the current directory ".". */
 const char *app_case(const app *a);
+/* The case of a program that also takes it as its one argument (listTimes,
+ * cleanCase): the argument, else -case, else "."; both is an error. */
+const char *app_case_or_arg(const app *a);
 
 /* The time directories of case_dir holding `marker` (e.g. "fluid.vtu")
  * that -time / -latestTime select (all without them); the first one (the
@@ -131,7 +144,7 @@ void app_times(const app *a, const char *case_dir, const char *marker, int with_
                tdir_list *out);
 
 /* A command-line error found by the program itself (e.g. two options that
- * exclude each other): "<program>: <message>", the usage line, exit 2. */
+ * exclude each other): "Error: <program>: <message>", the usage line, exit 2. */
 void app_error(const app *a, const char *fmt, ...) __attribute__((format(printf, 2, 3), noreturn));
 
 /* The help text and the completion words, as -help and -completionWords

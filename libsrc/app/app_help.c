@@ -8,6 +8,8 @@
 
 /* The longest "-name <arg>" column shown; longer ones put the help below. */
 enum { APP_HELP_COLUMN = 24 };
+/* Lines of help are kept within this many columns where the default is added. */
+enum { APP_HELP_WIDTH = 80 };
 
 static const char *app_kind_arg(app_kind k)
 {
@@ -59,8 +61,12 @@ static void app_help_option(FILE *out, const app_option *o, int col)
 {
     char syn[128], help[2048];
     app_synopsis(o, syn, sizeof syn);
-    if (o->def) snprintf(help, sizeof help, "%s (default: %s)", o->help, o->def);
-    else snprintf(help, sizeof help, "%s", o->help ? o->help : "");
+    const char *text = o->help ? o->help : "", *last = strrchr(text, '\n');
+    size_t width = (size_t)col + 4 + strlen(last ? last + 1 : text);
+    if (o->def && width + strlen(o->def) + 12 > APP_HELP_WIDTH)
+        snprintf(help, sizeof help, "%s\n(default: %s)", text, o->def);
+    else if (o->def) snprintf(help, sizeof help, "%s (default: %s)", text, o->def);
+    else snprintf(help, sizeof help, "%s", text);
     if ((int)strlen(syn) > col) {
         fprintf(out, "  %s\n", syn);
         app_lines(out, help, col + 4, 0);

@@ -89,6 +89,13 @@ typedef struct cf_table {
 } cf_table;
 
 int cf_table_read(const char *path, cf_table *t, sl_err *err);
+/* The same for either format: CF_TABLE_DAT as above, CF_TABLE_CSV with
+ * '#' lines, then a header row, then rows, fields separated by commas (or
+ * tabs, spaces), quotes stripped.  strict: a row before the header (DAT) or
+ * with another number of fields than the header names is an error naming
+ * the file and line. */
+typedef enum cf_table_format { CF_TABLE_DAT, CF_TABLE_CSV } cf_table_format;
+int cf_table_read_as(const char *path, cf_table_format fmt, int strict, cf_table *t, sl_err *err);
 void cf_table_free(cf_table *t);
 /* Index of the column called name, or of the 1-based number name; -1. */
 int cf_table_column(const cf_table *t, const char *name);
@@ -114,9 +121,10 @@ const char *cf_plot_png_terminal(void);
 FILE *cf_plot_open(sl_err *err);
 /* Closes the pipe; nonzero (err filled) if gnuplot reported an error. */
 int cf_plot_close(FILE *p, sl_err *err);
-/* Runs `gnuplot <script>` in dir (stdin /dev/null); nonzero with err filled
- * if gnuplot is not installed or fails. */
-int cf_plot_script(const char *dir, const char *script, sl_err *err);
+/* Runs `gnuplot <script>` in dir (NULL: here; stdin /dev/null), or with
+ * args (NULL-terminated) `gnuplot -c <script> <args...>` (ARG1, ...);
+ * nonzero with err filled if gnuplot is not installed or fails. */
+int cf_plot_script(const char *dir, const char *script, const char *const *args, sl_err *err);
 /* Writes s as a gnuplot '...' string. */
 void cf_plot_string(FILE *p, const char *s);
 

@@ -2,7 +2,8 @@
  * cf_plot: the one gnuplot runner (Debian's gnuplot-nox) of the tools --
  * a pipe to a new gnuplot for those that draw from inline data (plotSweep,
  * monitorCase), a script file run in its folder for those that leave the
- * script beside the data to run again (densityError, compareExperiment) --
+ * script beside the data to run again (densityError, compareExperiment,
+ * monitorCase -script) --
  * both started by sl_proc, so a missing gnuplot is one message; plus the
  * PNG terminal available (pngcairo, else libgd's png) and string quoting.
  */
@@ -77,9 +78,20 @@ int cf_plot_close(FILE *p, sl_err *err)
     return bad;
 }
 
-int cf_plot_script(const char *dir, const char *script, sl_err *err)
+int cf_plot_script(const char *dir, const char *script, const char *const *args, sl_err *err)
 {
-    const char *argv[] = {"gnuplot", script, NULL};
+    const char *argv[16] = {"gnuplot"};
+    size_t n = 1;
+    if (args) argv[n++] = "-c";
+    argv[n++] = script;
+    for (size_t i = 0; args && args[i]; i++) {
+        if (n + 1 >= sizeof argv / sizeof *argv) {
+            sl_err_set(err, "gnuplot %s: too many arguments", script);
+            return 1;
+        }
+        argv[n++] = args[i];
+    }
+    argv[n] = NULL;
     sl_proc p = {.argv = argv, .dir = dir, .input = "/dev/null"};
     int status;
     if (sl_proc_run(&p, &status, err)) {
@@ -89,7 +101,8 @@ int cf_plot_script(const char *dir, const char *script, sl_err *err)
     if (!sl_proc_ok(status)) {
         char why[64];
         sl_proc_describe(status, why, sizeof why);
-        sl_err_set(err, "gnuplot failed on %s/%s (%s)", dir, script, why);
+        sl_err_set(err, "gnuplot failed on %s%s%s (%s)", dir ? dir : "", dir ? "/" : "", script,
+                   why);
         return 1;
     }
     return 0;

@@ -36,6 +36,15 @@ typedef struct dedit_change {
 int dedit_set(const char *file, const char *path, const char *value, dedit_change *ch,
               sl_err *err);
 
+/* dedit_set on `file` (a path inside the folder `root`, e.g. a case or a
+ * clone of one), refused when the change would land outside root: when the
+ * entry (or, for a new one, the dictionary it is added to) is written in an
+ * #include'd file, or through a symlink, outside root -- it would change a
+ * shared file for every case.  The error names the entry, the file holding
+ * it and root. */
+int dedit_set_inside(const char *root, const char *file, const char *path, const char *value,
+                     dedit_change *ch, sl_err *err);
+
 /* Remove entry `path` (every definition of it, with the lines it stands on
  * when nothing else is on them).  0, or nonzero with err filled; a missing
  * entry is an error naming it. */

@@ -83,7 +83,7 @@ int main(int argc, char **argv)
 {
     app a;
     app_parse(&a, &info, argc, argv);
-    const char *dir = a.nargs ? a.args[0] : app_case(&a);
+    const char *dir = app_case_or_arg(&a);
     dry_run = app_found(&a, "dryRun");
     if (!cf_is_case(dir)) sl_fatal("'%s' is not a case: it has no system/controlDict", dir);
 

@@ -110,7 +110,7 @@ static int run_gnuplot(const char *dir, const char *name)
     char script[512];
     sl_err err;
     snprintf(script, sizeof script, "%s.gp", name);
-    if (!cf_plot_script(dir, script, &err)) return 0;
+    if (!cf_plot_script(dir, script, NULL, &err)) return 0;
     sl_warning("%s: no plot; run 'gnuplot %s' in %s later", err.msg, script, dir);
     return 1;
 }

@@ -75,7 +75,7 @@ static int write_script(const char *dir)
 static void run_gnuplot(const char *dir)
 {
     sl_err err;
-    if (cf_plot_script(dir, "densityError.gp", &err))
+    if (cf_plot_script(dir, "densityError.gp", NULL, &err))
         sl_warning("%s: no plot; run 'gnuplot densityError.gp' in %s later", err.msg, dir);
     else
         sl_info("Plot: %s/densityError.png", dir);

@@ -86,7 +86,7 @@ int main(int argc, char **argv)
     app a;
     tdir_list l;
     app_parse(&a, &info, argc, argv);
-    const char *dir = a.nargs ? a.args[0] : app_case(&a);
+    const char *dir = app_case_or_arg(&a);
     if (!cf_is_case(dir)) sl_fatal("'%s' is not a case: it has no system/controlDict", dir);
     app_times(&a, dir, "fluid.vtu", app_found(&a, "withZero"), &l);
     int bad = print_times(dir, app_found(&a, "check"), &l);

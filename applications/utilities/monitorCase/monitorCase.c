@@ -26,7 +26,7 @@
 #include <unistd.h>
 
 typedef struct options {
-    const char *dir, *file, *columns, *png;
+    const char *dir, *file, *columns, *png, *script;
     double refresh, idle;
     int once, logy, print;
 } options;
@@ -57,8 +57,15 @@ static const app_option table[] = {
      .min = 0,
      .max = INFINITY,
      .above_min = 1},
+    {.name = "script",
+     .kind = APP_PATH,
+     .arg = "<file.gp>",
+     .help = "draw with this gnuplot script instead (with -png): it is run as\n"
+             "gnuplot -c <file.gp> <table> <png> <title>, <table> holding the\n"
+             "(joined) record as -print writes it; e.g. etc/plotTimeStep.gp",
+     .glob = "*.gp"},
     {.name = "once", .help = "draw once and exit"},
-    {.name = "logscale", .help = "logarithmic y axes"},
+    {.name = "logScale", .help = "logarithmic y axes", .aliases = "logscale"},
     {.name = "print", .help = "print the (joined) record as a table and exit"},
     APP_END};
 
@@ -83,10 +90,12 @@ static options parse_args(int argc, char **argv)
     o.file = a.nargs ? a.args[0] : NULL;
     o.columns = app_string(&a, "columns", NULL);
     o.png = app_string(&a, "png", NULL);
+    o.script = app_string(&a, "script", NULL);
+    if (o.script && !o.png) app_error(&a, "-script draws into a PNG: give -png <file> too");
     o.refresh = app_double(&a, "refresh", 5);
     o.idle = app_double(&a, "idle", 0);
     o.once = app_found(&a, "once");
-    o.logy = app_found(&a, "logscale");
+    o.logy = app_found(&a, "logScale");
     o.print = app_found(&a, "print");
     app_free(&a);
     return o;
@@ -286,25 +295,43 @@ static void load(const options *o, cf_table *t, char **title, char **watch)
 }
 
 /* The shortest of 15-17 digits that reads back as v exactly. */
-static void print_exact(double v, char end)
+static void print_exact(FILE *out, double v, char end)
 {
     char buf[40];
     for (int digits = 15; digits <= 17; digits++) {
         snprintf(buf, sizeof buf, "%.*g", digits, v);
         if (strtod(buf, NULL) == v || isnan(v)) break;
     }
-    printf("%s%c", buf, end);
+    fprintf(out, "%s%c", buf, end);
 }
 
 /* The table as text: a header naming the columns, then the rows. */
-static void print_table(const cf_table *t)
+static void print_table(FILE *out, const cf_table *t)
 {
-    fputs("#", stdout);
-    for (size_t c = 0; c < t->ncol; c++) printf("%s%s", c ? "\t" : " ", t->name[c]);
-    putchar('\n');
+    fputs("#", out);
+    for (size_t c = 0; c < t->ncol; c++) fprintf(out, "%s%s", c ? "\t" : " ", t->name[c]);
+    fputc('\n', out);
     for (size_t r = 0; r < t->nrow; r++)
         for (size_t c = 0; c < t->ncol; c++)
-            print_exact(t->v[r * t->ncol + c], c + 1 < t->ncol ? '\t' : '\n');
+            print_exact(out, t->v[r * t->ncol + c], c + 1 < t->ncol ? '\t' : '\n');
+}
+
+/* -script: the table into a temporary file beside the picture, then
+ * `gnuplot -c <script> <table> <out> <title>`. */
+static void draw_script(const options *o, const cf_table *t, const char *title, const char *out)
+{
+    char *dat = sl_malloc(strlen(out) + 32, "a path");
+    const char *args[] = {dat, out, title, NULL};
+    sl_err err;
+    sprintf(dat, "%s.tmp.%ld.dat", out, (long)getpid());
+    FILE *f = fopen(dat, "w");
+    if (!f) sl_fatal("cannot write '%s': %s", dat, strerror(errno));
+    print_table(f, t);
+    if (fclose(f) != 0) sl_fatal("cannot write '%s': %s", dat, strerror(errno));
+    int bad = cf_plot_script(NULL, o->script, args, &err);
+    remove(dat);
+    free(dat);
+    if (bad) sl_fatal("%s", err.msg);
 }
 
 /* Reads the record and draws it; 0 if it had no rows yet (nothing drawn).
@@ -323,7 +350,8 @@ static int draw_once(const options *o, char **watch)
     if (o->png) {
         char *tmp = sl_malloc(strlen(o->png) + 32, "a path");
         sprintf(tmp, "%s.tmp.%ld.png", o->png, (long)getpid());
-        draw(o, &t, path, tmp);
+        if (o->script) draw_script(o, &t, path, tmp);
+        else draw(o, &t, path, tmp);
         if (rename(tmp, o->png) != 0) sl_fatal("cannot write '%s': %s", o->png, strerror(errno));
         free(tmp);
     } else {
@@ -350,7 +378,7 @@ int main(int argc, char **argv)
         cf_table t;
         char *title;
         load(&o, &t, &title, &path);
-        print_table(&t);
+        print_table(stdout, &t);
         cf_table_free(&t);
         free(title);
         free(path);

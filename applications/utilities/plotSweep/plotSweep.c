@@ -8,7 +8,7 @@
  * and the front's rows, as they are in the input, sorted by x).
  *
  *   plotSweep [-output file.png] [-by <column>] [-where <column>=<value>]...
- *             [-pareto] [-logx] [-logy] [-dumb] <results.csv> <x> <y>
+ *             [-pareto] [-logX] [-logY] [-dumb] <results.csv> <x> <y>
  *
  * Rows without finite numbers in x and y (nan, inf, empty, '-') are left
  * out and counted on stderr.  Every check is made before anything is
@@ -78,8 +78,8 @@ static const app_option table_options[] = {
              "on the other (over all series).  Prints it (case, x, y)\n"
              "and writes it as <picture name>_pareto.csv: the table's\n"
              "header and the front's rows, sorted by x"},
-    {.name = "logx", .help = "logarithmic x axis"},
-    {.name = "logy", .help = "logarithmic y axis"},
+    {.name = "logX", .help = "logarithmic x axis", .aliases = "logx"},
+    {.name = "logY", .help = "logarithmic y axis", .aliases = "logy"},
     {.name = "dumb", .help = "draw in the terminal instead of a PNG"},
     APP_END};
 
@@ -121,8 +121,8 @@ static options parse_args(int argc, char **argv)
         check_where(&a, o.where[i]);
     }
     o.pareto = app_found(&a, "pareto");
-    o.logx = app_found(&a, "logx");
-    o.logy = app_found(&a, "logy");
+    o.logx = app_found(&a, "logX");
+    o.logy = app_found(&a, "logY");
     o.dumb = app_found(&a, "dumb");
     app_free(&a);
     return o;

@@ -76,36 +76,13 @@ void sts_trial_free(sts_trial *t)
 
 /* ---- preparing ---------------------------------------------------------------- */
 
-/* The file a dedit_set of `entry` in `file` changes: where the entry is
- * written (an #include'd file, possibly), else `file` itself. */
-static char *owner_file(const char *file, const char *entry)
-{
-    sl_err err;
-    dict *d = dict_read_file(file, &err);
-    if (!d) sl_fatal("%s", err.msg);
-    const dict_entry *e = dict_lookup(d, entry);
-    char *owner = sl_strdup(e ? dict_entry_file(e) : file);
-    dict_free(d);
-    return owner;
-}
-
-/* Set `entry` of the trial's `file` to `value`.  An entry written in a file
- * outside the trial (an #include of a shared file, a symlink) would change
- * the case itself: refused. */
+/* Set `entry` of the trial's `file` to `value`, refused when it is written
+ * outside the trial (it would change the case itself). */
 static void set_entry(const sts_trial *t, const char *file, const char *entry, const char *value)
 {
-    char *path = cf_join(t->dir, file), *owner = owner_file(path, entry);
-    char rd[PATH_MAX], ro[PATH_MAX];
+    char *path = cf_join(t->dir, file);
     sl_err err;
-    if (!realpath(t->dir, rd) || !realpath(owner, ro))
-        sl_fatal("cannot resolve '%s' or '%s': %s", t->dir, owner, strerror(errno));
-    size_t n = strlen(rd);
-    if (strncmp(ro, rd, n) != 0 || ro[n] != '/')
-        sl_fatal("'%s' of %s is written in %s, outside the trial (an #include or a symlink): "
-                 "setting it would change the case itself; copy that file into the case",
-                 entry, file, owner);
-    if (dedit_set(path, entry, value, NULL, &err)) sl_fatal("%s", err.msg);
-    free(owner);
+    if (dedit_set_inside(t->dir, path, entry, value, NULL, &err)) sl_fatal("%s", err.msg);
     free(path);
 }
 

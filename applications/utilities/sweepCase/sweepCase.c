@@ -23,19 +23,8 @@ typedef struct options {
 } options;
 
 static const app_option table[] = {
-    {.name = "jobs",
-     .kind = APP_INT,
-     .help = "run N cases at a time",
-     .def = "the number of cores",
-     .min = 1,
-     .max = 4096},
-    {.name = "threads",
-     .kind = APP_INT,
-     .arg = "<T>",
-     .help = "OpenMP threads per case",
-     .def = "cores / jobs, unless OMP_NUM_THREADS is set",
-     .min = 1,
-     .max = 4096},
+    APP_JOBS("run N cases at a time"),
+    APP_THREADS("OpenMP threads per case", "cores / jobs, unless OMP_NUM_THREADS is set"),
     {.name = "force", .help = "clone and run every point again, finished or not"},
     {.name = "printJobs",
      .help = "prepare the unfinished cases and print one shell command per\n"

@@ -51,42 +51,6 @@ sweep_status sweep_case_status(const sweep *s, size_t point)
 
 /* ---- preparing a case ------------------------------------------------------------ */
 
-/* The file a set of `entry` in `file` would change: where the entry (or
- * the dictionary it is added to) is written. */
-static char *sweep_owner(const char *file, const char *entry)
-{
-    sl_err err;
-    dict *d = dict_read_file(file, &err);
-    const dict_entry *e;
-    char *owner, *parent = sl_strdup(entry), *slash;
-    if (!d) sl_fatal("%s", err.msg);
-    e = dict_lookup(d, entry);
-    while (!e && (slash = strrchr(parent, '/'))) {
-        *slash = '\0';
-        e = dict_lookup(d, parent);
-    }
-    owner = sl_strdup(e ? dict_entry_file(e) : file);
-    free(parent);
-    dict_free(d);
-    return owner;
-}
-
-/* An entry written in a file outside the case (an #include of a shared
- * file) would be changed for every case at once: refused. */
-static void sweep_check_inside(const sweep_param *p, const char *dir, const char *file)
-{
-    char *owner = sweep_owner(file, p->entry);
-    char rd[PATH_MAX], ro[PATH_MAX];
-    if (!realpath(dir, rd) || !realpath(owner, ro))
-        sl_fatal("cannot resolve '%s' or '%s': %s", dir, owner, strerror(errno));
-    size_t n = strlen(rd);
-    if (strncmp(ro, rd, n) != 0 || ro[n] != '/')
-        sl_fatal("parameter '%s' is written in %s, outside the case %s (an #include of a shared "
-                 "file?): a sweep would change it for every case; copy it into the base case",
-                 p->key, owner, dir);
-    free(owner);
-}
-
 void sweep_prepare(const sweep *s, size_t point)
 {
     char *dir = sweep_case_dir(s, point);
@@ -97,9 +61,8 @@ void sweep_prepare(const sweep *s, size_t point)
     for (size_t k = 0; k < s->nparam; k++) {
         const sweep_param *p = &s->param[k];
         char *file = cf_join(dir, p->file);
-        sweep_check_inside(p, dir, file);
-        if (dedit_set(file, p->entry, sweep_value(s, point, k), NULL, &err))
-            sl_fatal("case %s: %s", s->name[point], err.msg);
+        if (dedit_set_inside(dir, file, p->entry, sweep_value(s, point, k), NULL, &err))
+            sl_fatal("case %s: parameter '%s': %s", s->name[point], p->key, err.msg);
         free(file);
     }
     free(dir);
