@@ -547,7 +547,7 @@ static void build_status(sl_progress *p, const char *what, const char *name, siz
     sl_progress_update(p, (double)k, text);
 }
 
-/* The names of the containers ("'tank'", "'tank', 'glass'"), for messages. */
+/* The names of the box containers ("'tank'", "'tank', 'table'"). */
 static const char *container_names(const sl_case *c)
 {
     static char buf[256];
@@ -555,7 +555,7 @@ static const char *container_names(const sl_case *c)
     buf[0] = 0;
     for (size_t s = 0; s < c->nshapes && off < sizeof buf; s++) {
         const geo_shape *g = &c->shapes[s];
-        if (g->kind == GEO_CONTAINER || (g->kind == GEO_MESH && g->mesh_container))
+        if (g->kind == GEO_CONTAINER)
             off += (size_t)snprintf(buf + off, sizeof buf - off, "%s'%s'", off ? ", " : "", g->name);
     }
     return buf;
@@ -575,9 +575,10 @@ static int pours_in(const geo_shape *g, const double p[3], const double dir[3], 
 }
 
 /* An emitter must open into the fluid space: every point of its opening
- * inside the containers (or pouring in through an open face) and outside
- * the solids; else its particles fall outside the tank forever, or are
- * born inside a wall. */
+ * inside the box containers (or pouring in through an open face) and
+ * outside the solids; else its particles fall outside the tank forever, or
+ * are born inside a wall.  A mesh container is not checked: a tap above a
+ * glass pours into it. */
 static void check_emitter_place(const sl_case *c, size_t k)
 {
     const emt_emitter *m = &c->emitters[k];
@@ -587,13 +588,14 @@ static void check_emitter_place(const sl_case *c, size_t k)
         for (int d = 0; d < 3; d++) p[d] = m->centre[d] + m->pu[q] * m->u[d] + m->pv[q] * m->v[d];
         for (s = 0; s < c->nshapes; s++) {
             const geo_shape *t = &c->shapes[s];
+            if (t->kind == GEO_MESH && t->mesh_container) continue;
             if (geo_solid_distance(t, p) < 0.0 &&
                 !(t->kind == GEO_CONTAINER && pours_in(t, p, m->dir, c->prm.gravity)))
                 break;
         }
         if (s == c->nshapes) continue;
         const geo_shape *g = &c->shapes[s];
-        int outside = g->kind == GEO_CONTAINER || (g->kind == GEO_MESH && g->mesh_container);
+        int outside = g->kind == GEO_CONTAINER;
         sl_fatal("%s: emitter '%s' opens %s geometry '%s': its point (%g %g %g) is %s; move "
                  "its centre (or make it smaller) so that the whole opening is in the fluid space",
                  c->emitter_where[k].text, m->name, outside ? "outside the container" : "inside the solid",
@@ -613,8 +615,6 @@ static void check_emitter_volume(const sl_case *c, size_t k)
         const geo_shape *g = &c->shapes[s];
         if (g->kind == GEO_CONTAINER)
             tank += (g->hi[0] - g->lo[0]) * (g->hi[1] - g->lo[1]) * (g->hi[2] - g->lo[2]);
-        else if (g->kind == GEO_MESH && g->mesh_container)
-            tank += fabs(mesh_volume(g->mesh));
     }
     if (tank > 0.0 && vol > tank)
         sl_warning("%s: emitter '%s' delivers %.3g m^3 by t = %g s (%zu particles a layer, %g m/s) "

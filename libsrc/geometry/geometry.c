@@ -279,11 +279,12 @@ void geo_bounds(const geo_shape *s, double r0, double lo[3], double hi[3])
 }
 
 
-/* 1 if p lies beyond the walls of a container (box or mesh): a region
- * point dropped there is fluid the user asked for that is lost. */
+/* 1 if p lies beyond the walls of a box container: a region point dropped
+ * there is fluid the user asked for that is lost.  (A mesh container is
+ * not counted: a box region over a glass is the way to fill the glass.) */
 static int beyond_container(const geo_shape *s, double d)
 {
-    return d < 0.0 && (s->kind == GEO_CONTAINER || (s->kind == GEO_MESH && s->mesh_container));
+    return d < 0.0 && s->kind == GEO_CONTAINER;
 }
 
 /* The lattice of spacing r0 over [lo, hi] (first point at lo + r0/2),
