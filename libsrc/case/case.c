@@ -464,13 +464,11 @@ static void read_boundary(sl_case *c)
     dict_free(d);
 }
 
-/* Where each top-level key of the case files belongs, so that `eta` in
- * controlDict is reported as belonging in constant/fluidProperties. */
-static void register_key_homes(void)
+const dict_key_home *case_key_homes(void)
 {
     static const char *fluid[64];
     static dict_key_home homes[5];
-    if (homes[0].where) return;
+    if (homes[0].where) return homes;
     const char **k = fluid_and_effect_keys();
     size_t n = 0;
     while (k[n] && n + 1 < sizeof fluid / sizeof *fluid) { fluid[n] = k[n]; n++; }
@@ -481,12 +479,13 @@ static void register_key_homes(void)
     homes[2] = (dict_key_home){"constant/fluidProperties", fluid};
     homes[3] = (dict_key_home){"constant/boundaryProperties", boundary_keys};
     homes[4] = (dict_key_home){NULL, NULL};
-    dict_warn_set_homes(homes);
+    return homes;
 }
 
 void case_read(sl_case *c, const char *dir)
 {
-    register_key_homes();
+    /* `eta` in controlDict is reported as belonging in fluidProperties */
+    dict_warn_set_homes(case_key_homes());
     memset(c, 0, sizeof *c);
     pcs_params_default(&c->prm);
     eff_set_init(&c->effects);
