@@ -249,6 +249,11 @@ static const warned_input warned_inputs[] = {
     {"numberOfThreads 4000; on a machine with fewer cores",
      "echo 'numberOfThreads 4000;' >> system/controlDict", "controlDict:3: keyword 'numberOfThreads'",
      "cores run slower"},
+    {"an open obstacle mesh (a box without a lid)",
+     "cp ../../data/mesh/bad/open.obj constant/ && echo 'geometry { tank { type container; "
+     "min (0 0 0); max (1.6 0.6 0.8); } lidless { type mesh; file \"open.obj\"; scale 0.2; "
+     "translate (1 0.2 0); } }' >> constant/boundaryProperties",
+     "constant/open.obj: mesh is not closed: 4 edges are used by one triangle only", "open sheet"},
     {"an emitter that delivers more than the tank holds",
      "echo 'emitters { jet { type disc; centre (1 0.3 0.5); direction (0 0 -1); radius 0.1; "
      "speed 100; } }' >> constant/fluidProperties",

@@ -17,6 +17,7 @@
 
 #include "core/sl_mem.h"
 #include "dictionary/dict.h"
+#include "hostile_table.h"
 
 #define VALID "tests/data/dictionary/valid/"
 #define BAD "tests/data/dictionary/bad/"
@@ -385,6 +386,7 @@ static void test_bad_files(void **state)
         snprintf(where, sizeof where, BAD "%s:%d:", c->where ? c->where : c->file, c->line);
         assert_has(err.msg, where);
         assert_has(err.msg, c->part);
+        hostile_record("dictionary syntax (any case file)", c->file, err.msg);
     }
 }
 
