@@ -5,6 +5,7 @@
 
 #include "core/sl_mem.h"
 #include "geometry/mesh_grid.h"
+#include "geometry/mesh_progress.h"
 
 #include <gsl/gsl_rng.h>
 #include <math.h>
@@ -533,8 +534,11 @@ static void sample_faces(sampler *s, const msample_params *p)
                               s->off[3 * (size_t)m->t[3 * j + 1] + d] +
                               s->off[3 * (size_t)m->t[3 * j + 2] + d]) / 3.0;
     z_order(cen, m->nt, lo, hi, order);
+    mesh_progress mp;
+    mesh_progress_start(&mp, m->nt, "sampling a mesh of %zu triangles", m->nt);
     for (size_t q = 0; q < m->nt; q++) {
         size_t j = order[q];
+        mesh_progress_at(&mp, q);
         double expect = p->darts * offset_area(s, j) / (s->r0 * s->r0);
         double ndarts = floor(expect) + (gsl_rng_uniform(rng) < expect - floor(expect));
         for (double i = 0; i < ndarts; i++) {
@@ -548,6 +552,7 @@ static void sample_faces(sampler *s, const msample_params *p)
             accept(s, x, n, p->min_spacing * s->r0);
         }
     }
+    mesh_progress_end(&mp);
     gsl_rng_free(rng);
     free(order);
     free(cen);
@@ -641,8 +646,12 @@ static void relax(sampler *s, int sweeps, size_t nfixed, double *x, double *n, s
     mesh_copy(&off, m);
     memcpy(off.v, s->off, 3 * m->nv * sizeof *off.v);
     mesh_index_build(&off);
+    mesh_progress mp;
+    mesh_progress_start(&mp, (size_t)sweeps * (np - nfixed), "relaxing %zu boundary particles "
+                        "(%d sweeps)", np - nfixed, sweeps);
     for (int it = 0; it < sweeps; it++) {
         double moved2 = 0.0;
+        mesh_progress_at(&mp, (size_t)it * (np - nfixed));
         if (stale) verlet_build(&v, x, nfixed, np, range + skin);
         memcpy(y, x, 3 * np * sizeof *y);
 #pragma omp parallel for schedule(static) if (np - nfixed > 8192)
@@ -681,6 +690,7 @@ static void relax(sampler *s, int sweeps, size_t nfixed, double *x, double *n, s
         }
         stale = 4.0 * moved2 > skin * skin;
     }
+    mesh_progress_end(&mp);
     mesh_free(&off);
     free(v.start);
     free(v.nbr);

@@ -765,6 +765,52 @@ static void test_open_obstacle_reported(void **state)
     mesh_free(&m);
 }
 
+typedef struct big_job {
+    const char *path;
+    mesh *m;
+    int rc;
+} big_job;
+
+static void read_and_validate(void *arg)
+{
+    big_job *j = arg;
+    sl_err err = {{0}};
+    j->rc = mesh_read(j->path, j->m, &err);
+    if (j->rc == 0) j->rc = mesh_validate(j->m, j->path, MESH_QUIET, NULL, &err);
+}
+
+/* Long mesh work shows progress and the time left (sl_progress lines, due
+ * at once here through SLUICE_PROGRESS_PERIOD); small meshes stay silent. */
+static void test_mesh_progress(void **state)
+{
+    (void)state;
+    mesh m;
+    sl_err err = {{0}};
+    fine_box(&m, 100, 1); /* 120000 triangles */
+    assert_int_equal(mesh_write_obj(&m, "tests/output/mesh_big.obj", NULL, &err), 0);
+    mesh_free(&m);
+    setenv("SLUICE_PROGRESS", "plain", 1);
+    setenv("SLUICE_PROGRESS_PERIOD", "1e-9", 1);
+    big_job j = {"tests/output/mesh_big.obj", &m, -1};
+    char *out = stderr_of(read_and_validate, &j);
+    assert_int_equal(j.rc, 0);
+    assert_int_equal(m.nt, 120000);
+    assert_has(out, "Progress: reading tests/output/mesh_big.obj (");
+    assert_has(out, "Progress: indexing a mesh of 120000 triangles");
+    assert_has(out, " %  wall ");
+    assert_has(out, "ETA ");
+    free(out);
+    mesh_free(&m);
+    j.path = DATA "cube_ascii.stl";
+    out = stderr_of(read_and_validate, &j);
+    assert_int_equal(j.rc, 0);
+    if (strstr(out, "Progress")) fail_msg("a 12-triangle mesh shows progress: %s", out);
+    free(out);
+    mesh_free(&m);
+    unsetenv("SLUICE_PROGRESS");
+    unsetenv("SLUICE_PROGRESS_PERIOD");
+}
+
 static void test_spacing(void **state)
 {
     double x[100], y[100], z[100];
@@ -808,6 +854,7 @@ int main(void)
         cmocka_unit_test(test_sample_box),
         cmocka_unit_test(test_sample_misc),
         cmocka_unit_test(test_open_obstacle_reported),
+        cmocka_unit_test(test_mesh_progress),
         cmocka_unit_test(test_spacing),
     };
     sl_log_set_quiet(1);
