@@ -229,6 +229,16 @@ static void read_emitter(sl_case *c, const dict *e, const dict_entry *at)
     positive(e, "speed", m->speed);
     need(dict_get_scalar_or(e, "startTime", 0.0, &m->t0, &err), &err);
     need(dict_get_scalar_or(e, "endTime", INFINITY, &m->t1, &err), &err);
+    if (!(m->t1 > m->t0)) {
+        char why[160];
+        snprintf(why, sizeof why, "must be larger than the emitter's startTime (%g s): it would "
+                 "never emit", m->t0);
+        bad_value(e, "endTime", why);
+    }
+    if (m->t0 >= c->ctl.end_time)
+        warn_value(e, "startTime", "%g s is at or after the run's endTime (%g s in "
+                   "system/controlDict): emitter '%s' never emits", m->t0, c->ctl.end_time,
+                   dict_name(e));
     m->rho0 = c->prm.rho0;
     if (emt_setup(m, c->prm.r0) == 0)
         bad_value(e, disc ? "radius" : "size", "the opening holds no particle at this particleSpacing");
@@ -367,7 +377,8 @@ static void read_mesh(sl_case *c, const dict *s, geo_shape *g, int region)
     need(dict_get_word_or(s, "side", "obstacle", &side, &err), &err);
     g->mesh_container = region ? 0 : choose(s, "side", side, sides);
     mesh_report rep;
-    if (mesh_validate(g->mesh, path, region ? MESH_REQUIRE_CLOSED : 0, &rep, &err))
+    unsigned check = region ? MESH_REQUIRE_CLOSED : g->mesh_container ? 0 : MESH_WARN_OPEN;
+    if (mesh_validate(g->mesh, path, check, &rep, &err))
         sl_fatal("%s (geometry '%s' in %s)", err.msg, g->name, dict_file(s));
     g->dbound = 2.0 * c->prm.r0;
     free(path);
@@ -578,28 +589,44 @@ static int pours_in(const geo_shape *g, const double p[3], const double dir[3], 
  * outside the solids; else its particles fall outside the tank forever, or
  * are born inside a wall.  A mesh container is not checked: a tap above a
  * glass pours into it. */
+/* The first shape that excludes p from the fluid space (nshapes: none). */
+static size_t excluding_shape(const sl_case *c, const emt_emitter *m, const double p[3])
+{
+    size_t s;
+    for (s = 0; s < c->nshapes; s++) {
+        const geo_shape *t = &c->shapes[s];
+        if (t->kind == GEO_MESH && t->mesh_container) continue;
+        if (geo_solid_distance(t, p) < 0.0 &&
+            !(t->kind == GEO_CONTAINER && pours_in(t, p, m->dir, c->prm.gravity)))
+            break;
+    }
+    return s;
+}
+
 static void check_emitter_place(const sl_case *c, size_t k)
 {
     const emt_emitter *m = &c->emitters[k];
-    for (size_t q = 0; q < m->np; q++) {
-        double p[3];
-        size_t s = 0;
-        for (int d = 0; d < 3; d++) p[d] = m->centre[d] + m->pu[q] * m->u[d] + m->pv[q] * m->v[d];
-        for (s = 0; s < c->nshapes; s++) {
-            const geo_shape *t = &c->shapes[s];
-            if (t->kind == GEO_MESH && t->mesh_container) continue;
-            if (geo_solid_distance(t, p) < 0.0 &&
-                !(t->kind == GEO_CONTAINER && pours_in(t, p, m->dir, c->prm.gravity)))
-                break;
+    for (int ahead = 0; ahead < 2; ahead++) /* the opening, then one spacing downstream */
+        for (size_t q = 0; q < m->np; q++) {
+            double p[3];
+            for (int d = 0; d < 3; d++)
+                p[d] = m->centre[d] + m->pu[q] * m->u[d] + m->pv[q] * m->v[d] +
+                       ahead * c->prm.r0 * m->dir[d];
+            size_t s = excluding_shape(c, m, p);
+            if (s == c->nshapes) continue;
+            const geo_shape *g = &c->shapes[s];
+            int outside = g->kind == GEO_CONTAINER;
+            if (ahead)
+                sl_fatal("%s: emitter '%s' points %s geometry '%s': one particleSpacing "
+                         "downstream, (%g %g %g) is %s; turn its direction into the fluid space",
+                         c->emitter_where[k].text, m->name, outside ? "out of the container" : "into the solid",
+                         g->name, p[0], p[1], p[2], outside ? "beyond the walls" : "inside it");
+            sl_fatal("%s: emitter '%s' opens %s geometry '%s': its point (%g %g %g) is %s; move "
+                     "its centre (or make it smaller) so that the whole opening is in the fluid "
+                     "space", c->emitter_where[k].text, m->name,
+                     outside ? "outside the container" : "inside the solid", g->name, p[0], p[1],
+                     p[2], outside ? "beyond the walls" : "inside it");
         }
-        if (s == c->nshapes) continue;
-        const geo_shape *g = &c->shapes[s];
-        int outside = g->kind == GEO_CONTAINER;
-        sl_fatal("%s: emitter '%s' opens %s geometry '%s': its point (%g %g %g) is %s; move "
-                 "its centre (or make it smaller) so that the whole opening is in the fluid space",
-                 c->emitter_where[k].text, m->name, outside ? "outside the container" : "inside the solid",
-                 g->name, p[0], p[1], p[2], outside ? "beyond the walls" : "inside it");
-    }
 }
 
 /* The volume an emitter delivers before endTime, against the containers'
@@ -622,6 +649,50 @@ static void check_emitter_volume(const sl_case *c, size_t k)
                    m->speed, container_names(c), tank);
 }
 
+/* Particles [from, fluid.n) of region r that lie inside an earlier region:
+ * two regions over one place would put two particles there (twice rho0,
+ * which PCISPH cannot undo), so overlapping regions are refused. */
+static void check_overlap(const sl_case *c, size_t r, size_t from)
+{
+    const sl_fluid *f = &c->fluid;
+    for (size_t q = 0; q < r; q++) {
+        size_t inside = 0;
+        for (size_t i = from; i < f->n; i++) {
+            const double p[3] = {f->x[i], f->y[i], f->z[i]};
+            inside += geo_solid_distance(&c->regions[q].shape, p) < 0.0;
+        }
+        if (inside)
+            sl_fatal("%s: fluid region '%s' overlaps fluid region '%s' (%s): %zu of its %zu "
+                     "particles lie inside '%s', where they would double the density; make the "
+                     "regions disjoint (or merge them)", c->regions[r].where.text,
+                     c->regions[r].name, c->regions[q].name, c->regions[q].where.text, inside,
+                     f->n - from, c->regions[q].name);
+    }
+}
+
+/* A body that lies wholly outside every box container meets no fluid:
+ * almost surely a wrong translate, scale or unit. */
+static void check_shape_place(const sl_case *c, size_t s, const double lo[3], const double hi[3])
+{
+    const geo_shape *g = &c->shapes[s];
+    int containers = 0;
+    if (g->kind == GEO_CONTAINER || (g->kind == GEO_MESH && g->mesh_container)) return;
+    /* (bodies that move are left alone: they may come in later) */
+    for (size_t t = 0; t < c->nshapes; t++) {
+        const geo_shape *k = &c->shapes[t];
+        if (k->kind != GEO_CONTAINER) continue;
+        containers++;
+        int apart = 0;
+        for (int d = 0; d < 3; d++) apart |= lo[d] > k->hi[d] || hi[d] < k->lo[d];
+        if (!apart) return;
+    }
+    if (containers)
+        sl_warning("%s/constant/boundaryProperties: geometry '%s' (%g %g %g)-(%g %g %g) lies "
+                   "wholly outside the container (%s): no fluid can reach it; wrong translate, "
+                   "scale or units?", c->dir, g->name, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2],
+                   container_names(c));
+}
+
 void case_build(sl_case *c)
 {
     const double r0 = c->prm.r0;
@@ -633,6 +704,7 @@ void case_build(sl_case *c)
         geo_bounds(&c->shapes[s], 0.0, lo, hi);
         check_size(c, "constant/boundaryProperties", "geometry", c->shapes[s].name,
                    estimate(lo, hi, r0, 1));
+        if (c->motions[s].type == MOT_NONE) check_shape_place(c, s, lo, hi);
         if (c->shapes[s].kind == GEO_MESH) {
             double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                                (hi[2] - lo[2]) * (hi[2] - lo[2]));
@@ -682,7 +754,7 @@ void case_build(sl_case *c)
     for (size_t r = 0; r < c->nregions; r++) {
         const case_region *g = &c->regions[r];
         build_status(&prog, "filling fluid region", g->name, c->nshapes + r, nparts);
-        size_t lost = 0;
+        size_t lost = 0, from = c->fluid.n;
         size_t n = geo_fill_region(&g->shape, r0, g->velocity, c->shapes, c->nshapes, &c->fluid,
                                    &lost);
         if (lost)
@@ -694,6 +766,7 @@ void case_build(sl_case *c)
             sl_fatal("%s/constant/fluidProperties: fluid region '%s' holds no particle "
                      "(outside the container, inside an obstacle, or smaller than "
                      "particleSpacing %g)", c->dir, g->name, r0);
+        check_overlap(c, r, from);
         double lo[3], hi[3];
         geo_bounds(&g->shape, r0, lo, hi);
         grow_bounds(c->lo, c->hi, lo, hi);

@@ -731,7 +731,7 @@ static void validate_and_sample(void *arg)
     sl_boundary b;
     msample_params p = msample_defaults(0.025, MSAMPLE_OBSTACLE);
     prt_boundary_init(&b);
-    j->rc = mesh_validate(j->m, "openbox.stl", 0, NULL, &err);
+    j->rc = mesh_validate(j->m, "openbox.stl", MESH_WARN_OPEN, NULL, &err);
     if (j->rc == 0) j->rc = msample_surface(j->m, &p, 0, &b, &j->n, &err);
     prt_boundary_free(&b);
 }
