@@ -264,8 +264,8 @@ static void read_fluid(sl_case *c)
     double gn = sqrt(p->gravity[0] * p->gravity[0] + p->gravity[1] * p->gravity[1] +
                      p->gravity[2] * p->gravity[2]);
     if (gn > CASE_GRAVITY_WARN)
-        warn_value(d, "gravity", "|g| = %g m/s^2 is more than %g times the Earth's 9.81: "
-                   "wrong units?", gn, CASE_GRAVITY_WARN / 9.81);
+        warn_value(d, "gravity", "|g| = %g m/s^2 is above %g m/s^2 (the Earth's is 9.81): "
+                   "wrong units (cm/s^2)?", gn, CASE_GRAVITY_WARN);
     need(dict_get_scalar_or(d, "eta", 1.0, &eta, &err), &err);
     if (!(eta > 0.0 && eta < 100.0))
         bad_value(d, "eta", "must be a percentage above 0 and below 100 (the paper uses 1)");
