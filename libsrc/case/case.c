@@ -34,6 +34,14 @@ static dict *read_dict(const sl_case *c, const char *rel)
     dict *d = dict_read_file(path, &err);
     free(path);
     if (!d) sl_fatal("%s", err.msg);
+    return d;
+}
+
+/* read_dict, the first time a file is read: keys written twice are reported
+ * (once: read_periodic reads boundaryProperties again). */
+static dict *read_case_file(const sl_case *c, const char *rel)
+{
+    dict *d = read_dict(c, rel);
     dict_warn_duplicates(d);
     return d;
 }
@@ -93,7 +101,7 @@ static void read_controls(sl_case *c)
     static const char *const start_choices[] = {"startTime", "latestTime", NULL};
     static const char *const format_choices[] = {"binary", "ascii", NULL};
     static const char *const write_choices[] = {"adjustableRunTime", "runTime", NULL};
-    dict *d = read_dict(c, "system/controlDict");
+    dict *d = read_case_file(c, "system/controlDict");
     case_controls *k = &c->ctl;
     sl_err err;
     const char *w;
@@ -134,7 +142,7 @@ static void read_controls(sl_case *c)
 
 static void read_timestep(sl_case *c)
 {
-    dict *d = read_dict(c, "system/timeStepDict");
+    dict *d = read_case_file(c, "system/timeStepDict");
     ts_read(d, &c->ts);
     dict_free(d);
 }
@@ -247,7 +255,7 @@ static void read_emitter(sl_case *c, const dict *e, const dict_entry *at)
 static void read_fluid(sl_case *c)
 {
     static const double g0[3] = {0, 0, -9.81};
-    dict *d = read_dict(c, "constant/fluidProperties");
+    dict *d = read_case_file(c, "constant/fluidProperties");
     pcs_params *p = &c->prm;
     sl_err err;
     long l;
@@ -319,7 +327,8 @@ static void read_fluid(sl_case *c)
 
 /* ---- constant/boundaryProperties ---- */
 
-static const char *const boundary_keys[] = {"method", "epsilon", "restitution", "geometry", NULL};
+static const char *const boundary_keys[] = {"method", "epsilon", "restitution", "geometry",
+                                            "periodic", NULL};
 static const char *const shape_keys[] = {"type", "min", "max", "centre", "radius", "open",
                                          "point1", "point2", "origin", "edge1", "edge2",
                                          "file", "scale", "rotate", "translate", "side",
@@ -451,7 +460,7 @@ static void read_shape(sl_case *c, const dict *s)
 
 static void read_boundary(sl_case *c)
 {
-    dict *d = read_dict(c, "constant/boundaryProperties");
+    dict *d = read_case_file(c, "constant/boundaryProperties");
     sl_err err;
     const char *w;
     dict_warn_unknown(d, boundary_keys);
@@ -472,6 +481,89 @@ static void read_boundary(sl_case *c)
                      dict_entry_line(e), dict_entry_key(e));
         read_shape(c, dict_entry_dict(e));
     }
+    dict_free(d);
+}
+
+/* The period along axis a: the extent of the first container, whose
+ * faces across a must be open; every other shape inside it. */
+static void periodic_extent(sl_case *c, const dict *d, int a)
+{
+    const char *ax = (const char *[]){"x", "y", "z"}[a];
+    const unsigned faces = (unsigned)(3u << (2 * a));
+    const geo_shape *box = NULL;
+    char why[512];
+    for (size_t s = 0; s < c->nshapes && !box; s++)
+        if (c->shapes[s].kind == GEO_CONTAINER) box = &c->shapes[s];
+    if (!box)
+        bad_value(d, "periodic", "needs a container (with open faces across the periodic axis) "
+                                 "to give the period");
+    if ((box->open_faces & faces) != faces) {
+        snprintf(why, sizeof why, "axis %s: container '%s' has walls across it; open both faces "
+                 "(open (%sMin %sMax);) to make %s periodic", ax, box->name, ax, ax, ax);
+        bad_value(d, "periodic", why);
+    }
+    const double lo = box->lo[a], hi = box->hi[a], len = hi - lo, r0 = c->prm.r0;
+    const double k = len / r0;
+    if (fabs(k - round(k)) > 1e-6 * fmax(k, 1.0)) {
+        snprintf(why, sizeof why, "axis %s: the period (container '%s', %g m) must be a whole "
+                 "number of particle spacings (%g m), here %.6g; make it %g or %g m", ax,
+                 box->name, len, r0, k, floor(k) * r0, ceil(k) * r0);
+        bad_value(d, "periodic", why);
+    }
+    if (len < 4.0 * r0 * (1.0 - 1e-9)) {
+        snprintf(why, sizeof why, "axis %s: the period (%g m) must be at least the support "
+                 "diameter 2 h = 4 particleSpacing (%g m)", ax, len, 4.0 * r0);
+        bad_value(d, "periodic", why);
+    }
+    const double tol = 1e-9 * len;
+    for (size_t s = 0; s < c->nshapes; s++) {
+        double slo[3], shi[3];
+        if (&c->shapes[s] == box) continue;
+        geo_bounds(&c->shapes[s], 0.0, slo, shi);
+        if (c->shapes[s].kind == GEO_PLANE) { slo[a] += r0; shi[a] -= r0; } /* geo_bounds pads planes */
+        if (c->shapes[s].kind == GEO_CONTAINER && (c->shapes[s].open_faces & faces) == faces &&
+            fabs(slo[a] - lo) <= tol && fabs(shi[a] - hi) <= tol)
+            continue;
+        if (slo[a] < lo - tol || shi[a] > hi + tol) {
+            snprintf(why, sizeof why, "axis %s: geometry '%s' (%g to %g) crosses the periodic "
+                     "face of container '%s' (%g to %g); keep it inside the period", ax,
+                     c->shapes[s].name, slo[a], shi[a], box->name, lo, hi);
+            bad_value(d, "periodic", why);
+        }
+    }
+    for (size_t r = 0; r < c->nregions; r++) {
+        double rlo[3], rhi[3];
+        geo_bounds(&c->regions[r].shape, 0.0, rlo, rhi);
+        if (rlo[a] < lo - tol || rhi[a] > hi + tol)
+            sl_fatal("%s/constant/fluidProperties: fluid region '%s' (%g to %g along %s) must lie "
+                     "inside the period %g to %g of 'periodic' in constant/boundaryProperties",
+                     c->dir, c->regions[r].name, rlo[a], rhi[a], ax, lo, hi);
+    }
+    c->prm.periodic.lo[a] = lo;
+    c->prm.periodic.hi[a] = hi;
+}
+
+/* periodic (x y);: the axes, and the period of each from the geometry. */
+static void read_periodic(sl_case *c, const char *rel)
+{
+    static const char *const axes[] = {"x", "y", "z", NULL};
+    dict *d = read_dict(c, rel);
+    char **words = NULL;
+    size_t n = 0;
+    sl_err err;
+    if (!dict_has(d, "periodic")) {
+        dict_free(d);
+        return;
+    }
+    need(dict_get_word_list(d, "periodic", &words, &n, &err), &err);
+    for (size_t i = 0; i < n; i++) {
+        c->prm.periodic.axes |= 1u << choose(d, "periodic", words[i], axes);
+        free(words[i]);
+    }
+    free(words);
+    if (!c->prm.periodic.axes) bad_value(d, "periodic", "names no axis (x, y or z)");
+    for (int a = 0; a < 3; a++)
+        if (c->prm.periodic.axes & (1u << a)) periodic_extent(c, d, a);
     dict_free(d);
 }
 
@@ -507,6 +599,7 @@ void case_read(sl_case *c, const char *dir)
     read_timestep(c);
     read_fluid(c);
     read_boundary(c);
+    read_periodic(c, "constant/boundaryProperties");
     void *moving = eff_moving_boundary_new(c->motions, c->nshapes);
     if (moving) eff_add(&c->effects, &eff_moving_boundary, moving);
     sl_err err;
@@ -745,7 +838,9 @@ void case_build(sl_case *c)
         const geo_shape *g = &c->shapes[s];
         double lo[3], hi[3];
         build_status(&prog, "sampling geometry", g->name, s, nparts);
-        if (geo_sample(g, r0, (uint32_t)s, &c->boundary) == 0)
+        const int all_open = g->kind == GEO_CONTAINER && g->open_faces == 63u;
+        if (geo_sample(g, r0, (uint32_t)s, &c->boundary) == 0 &&
+            !(all_open && c->prm.periodic.axes)) /* a periodic box without walls */
             sl_fatal("%s/constant/boundaryProperties: geometry '%s' is too small to sample "
                      "with particleSpacing %g", c->dir, g->name, r0);
         geo_bounds(g, r0, lo, hi);
@@ -783,6 +878,11 @@ void case_build(sl_case *c)
         sl_fatal("%s: too many particles (%zu fluid, %zu boundary)", c->dir, c->fluid.n,
                  c->boundary.n);
     for (int k = 0; k < 3; k++) { c->lo[k] -= 2 * r0; c->hi[k] += 2 * r0; }
+    for (int k = 0; k < 3; k++) /* room for the periodic images (h beyond the faces) */
+        if (c->prm.periodic.axes & (1u << k)) {
+            c->lo[k] = fmin(c->lo[k], c->prm.periodic.lo[k] - 3 * r0);
+            c->hi[k] = fmax(c->hi[k], c->prm.periodic.hi[k] + 3 * r0);
+        }
     void *emit = eff_emitter_new(c->emitters, c->nemitters, (uint32_t)c->fluid.n);
     if (emit) eff_add(&c->effects, &eff_emitter, emit);
 }

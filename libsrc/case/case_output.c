@@ -90,9 +90,32 @@ static int write_fluid(const char *path, const pcs_solver *s, const vtk_options 
     return rc;
 }
 
+/* The real boundary particles (periodic images left out), compacted
+ * in b's order; returns a copy the caller frees. */
+static sl_boundary real_boundary(const sl_boundary *b)
+{
+    sl_boundary r;
+    prt_boundary_init(&r);
+    const uint32_t nreal = (uint32_t)(b->n - b->nimages);
+    for (size_t i = 0; i < b->n; i++)
+        if (b->id[i] < nreal) {
+            prt_boundary_push(&r, b->x[i], b->y[i], b->z[i], b->nx[i], b->ny[i], b->nz[i],
+                              b->body[i]);
+            r.p[r.n - 1] = b->p[i];
+            r.rho[r.n - 1] = b->rho[i];
+            r.mass[r.n - 1] = b->mass[i];
+        }
+    return r;
+}
+
 static int write_boundary(const char *path, const pcs_solver *s, const vtk_options *opt, sl_err *err)
 {
+    sl_boundary real;
     const sl_boundary *b = s->b;
+    if (b->nimages) {
+        real = real_boundary(b);
+        b = &real;
+    }
     vtk_field fields[] = {
         {"normal", 3, VTK_FLOAT64, {b->nx, b->ny, b->nz}},
         {"pressure", 1, VTK_FLOAT64, {b->p, NULL, NULL}},
@@ -100,8 +123,10 @@ static int write_boundary(const char *path, const pcs_solver *s, const vtk_optio
         {"mass", 1, VTK_FLOAT64, {b->mass, NULL, NULL}},
         {"body", 1, VTK_UINT32, {b->body, NULL, NULL}},
     };
-    return vtk_write_points(path, b->n, b->x, b->y, b->z, fields,
-                            sizeof fields / sizeof *fields, opt, err);
+    int rc = vtk_write_points(path, b->n, b->x, b->y, b->z, fields,
+                              sizeof fields / sizeof *fields, opt, err);
+    if (b == &real) prt_boundary_free(&real);
+    return rc;
 }
 
 static int write_collections(case_output *o, sl_err *err)

@@ -109,10 +109,14 @@ int cf_record_read(const char *case_dir, cf_table *t, char **folders, char **new
 
 /* "pngcairo" if gnuplot has it, else "png". */
 const char *cf_plot_png_terminal(void);
-/* A pipe to a new gnuplot; NULL with err filled if gnuplot is missing. */
+/* A pipe to a new gnuplot (at most 4 at once); NULL with err filled if
+ * gnuplot is missing. */
 FILE *cf_plot_open(sl_err *err);
 /* Closes the pipe; nonzero (err filled) if gnuplot reported an error. */
 int cf_plot_close(FILE *p, sl_err *err);
+/* Runs `gnuplot <script>` in dir (stdin /dev/null); nonzero with err filled
+ * if gnuplot is not installed or fails. */
+int cf_plot_script(const char *dir, const char *script, sl_err *err);
 /* Writes s as a gnuplot '...' string. */
 void cf_plot_string(FILE *p, const char *s);
 

@@ -1,41 +1,95 @@
 /*
- * cf_plot: driving gnuplot (Debian's gnuplot-nox) through a pipe for the
- * plotting tools (plotSweep, monitorCase): the PNG terminal available
- * (pngcairo, else libgd's png) and gnuplot string quoting.
+ * cf_plot: the one gnuplot runner (Debian's gnuplot-nox) of the tools --
+ * a pipe to a new gnuplot for those that draw from inline data (plotSweep,
+ * monitorCase), a script file run in its folder for those that leave the
+ * script beside the data to run again (densityError, compareExperiment) --
+ * both started by sl_proc, so a missing gnuplot is one message; plus the
+ * PNG terminal available (pngcairo, else libgd's png) and string quoting.
  */
 #include "casefiles/casefiles.h"
 
+#include "core/sl_proc.h"
+
 #include <stdio.h>
 #include <stdlib.h>
-#include <sys/wait.h>
+#include <string.h>
+
+static const char cf_plot_missing[] = "gnuplot is not installed (Debian: apt-get install gnuplot-nox)";
+
+/* The pipes open now and their gnuplots (a tool draws one plot at a time). */
+enum { CF_PLOT_MAX = 4 };
+static struct {
+    FILE *f;
+    pid_t pid;
+} cf_plots[CF_PLOT_MAX];
+
+/* Starting failed: "not installed" when gnuplot is not found. */
+static void cf_plot_start_error(sl_err *err)
+{
+    if (strstr(err->msg, "cannot run gnuplot:")) sl_err_set(err, "%s", cf_plot_missing);
+}
 
 const char *cf_plot_png_terminal(void)
 {
     static const char *term;
     if (!term) {
-        int rc = system("gnuplot -e 'set terminal pngcairo' </dev/null >/dev/null 2>&1");
-        term = rc == 0 ? "pngcairo" : "png";
+        const char *argv[] = {"gnuplot", "-e", "set terminal pngcairo", NULL};
+        sl_proc p = {.argv = argv, .input = "/dev/null", .log = "/dev/null"};
+        int status;
+        term = sl_proc_run(&p, &status, NULL) == 0 && sl_proc_ok(status) ? "pngcairo" : "png";
     }
     return term;
 }
 
 FILE *cf_plot_open(sl_err *err)
 {
-    FILE *p;
-    if (system("command -v gnuplot >/dev/null 2>&1") != 0) {
-        sl_err_set(err, "gnuplot is not installed (Debian: apt-get install gnuplot-nox)");
+    const char *argv[] = {"gnuplot", NULL};
+    sl_proc p = {.argv = argv, .pipe_input = 1};
+    FILE *f = NULL;
+    int k = 0;
+    while (k < CF_PLOT_MAX && cf_plots[k].f) k++;
+    if (k == CF_PLOT_MAX) {
+        sl_err_set(err, "more than %d gnuplots at once", CF_PLOT_MAX);
         return NULL;
     }
-    fflush(stdout);
-    if (!(p = popen("gnuplot", "w"))) sl_err_set(err, "cannot start gnuplot");
-    return p;
+    pid_t pid = sl_proc_start(&p, &f, err);
+    if (pid < 0) {
+        cf_plot_start_error(err);
+        return NULL;
+    }
+    cf_plots[k].f = f;
+    cf_plots[k].pid = pid;
+    return f;
 }
 
 int cf_plot_close(FILE *p, sl_err *err)
 {
-    int status = pclose(p);
-    if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        sl_err_set(err, "gnuplot failed (its messages are above)");
+    int k = 0, status = 0;
+    while (k < CF_PLOT_MAX && cf_plots[k].f != p) k++;
+    if (k == CF_PLOT_MAX) {
+        sl_err_set(err, "cf_plot_close: not a gnuplot pipe");
+        return 1;
+    }
+    int bad = fclose(p) != 0;
+    bad |= sl_proc_wait(cf_plots[k].pid, &status, 0, err) < 0 || !sl_proc_ok(status);
+    cf_plots[k].f = NULL;
+    if (bad) sl_err_set(err, "gnuplot failed (its messages are above)");
+    return bad;
+}
+
+int cf_plot_script(const char *dir, const char *script, sl_err *err)
+{
+    const char *argv[] = {"gnuplot", script, NULL};
+    sl_proc p = {.argv = argv, .dir = dir, .input = "/dev/null"};
+    int status;
+    if (sl_proc_run(&p, &status, err)) {
+        cf_plot_start_error(err);
+        return 1;
+    }
+    if (!sl_proc_ok(status)) {
+        char why[64];
+        sl_proc_describe(status, why, sizeof why);
+        sl_err_set(err, "gnuplot failed on %s/%s (%s)", dir, script, why);
         return 1;
     }
     return 0;

@@ -21,7 +21,8 @@ static void *read(const dict *d, const eff_setup *su)
 static void apply(void *state, const eff_view *v)
 {
     (void)state;
-    if (v->f->n) memcpy(v->f->scratch, v->f->rho, v->f->n * sizeof *v->f->rho);
+    const size_t n = v->f->n + v->f->nhalo; /* halo copies are neighbours too */
+    if (n) memcpy(v->f->scratch, v->f->rho, n * sizeof *v->f->rho);
 }
 
 static void correct(const void *state, const eff_view *v, size_t i, double x, double y, double z,

@@ -16,68 +16,15 @@
 
 /* ---- time selection ---- */
 
-/* A number filling [s, e) (surrounding blanks allowed); empty gives def. */
-static int spec_number(const char *s, const char *e, double def, double *out)
-{
-    while (s < e && isspace((unsigned char)*s)) s++;
-    while (e > s && isspace((unsigned char)e[-1])) e--;
-    if (s == e) {
-        *out = def;
-        return 0;
-    }
-    char buf[64], *end;
-    if ((size_t)(e - s) >= sizeof buf) return 1;
-    memcpy(buf, s, (size_t)(e - s));
-    buf[e - s] = '\0';
-    *out = strtod(buf, &end);
-    return *end != '\0' || !isfinite(*out);
-}
-
-/* Does t match spec?  -1 on a malformed spec. */
-static int spec_match(const char *spec, double t)
-{
-    const char *s = spec;
-    int hit = 0;
-    for (;;) {
-        const char *e = strchr(s, ',');
-        if (!e) e = s + strlen(s);
-        const char *colon = memchr(s, ':', (size_t)(e - s));
-        double a, b, tol = 1e-9 * (1.0 + fabs(t));
-        if (colon) {
-            if (spec_number(s, colon, -INFINITY, &a) || spec_number(colon + 1, e, INFINITY, &b))
-                return -1;
-            if (t >= a - tol && t <= b + tol) hit = 1;
-        } else {
-            if (spec_number(s, e, NAN, &a) || isnan(a)) return -1;
-            if (fabs(t - a) <= tol) hit = 1;
-        }
-        if (!*e) return hit;
-        s = e + 1;
-    }
-}
-
 int fo_post_times(const char *case_dir, const char *spec, int latest, tdir_list *out,
                   sl_err *err)
 {
     if (tdir_list_read(case_dir, "fluid.vtu", out, err)) return 1;
-    if (spec && spec_match(spec, 0.0) < 0) {
+    if (tdir_select(out, spec, latest, 1, err)) {
         tdir_list_free(out);
-        sl_err_set(err, "-time '%s': expected times and ranges such as 0.5, 0.5:1, :1, 0.5: "
-                        "separated by commas", spec);
         return 1;
     }
-    size_t k = 0;
-    for (size_t i = 0; i < out->n; i++) {
-        int keep = latest ? i + 1 == out->n : !spec || spec_match(spec, out->time[i]) == 1;
-        if (!keep) {
-            free(out->name[i]);
-            continue;
-        }
-        out->time[k] = out->time[i];
-        out->name[k++] = out->name[i];
-    }
-    out->n = k;
-    if (k == 0) {
+    if (out->n == 0) {
         tdir_list_free(out);
         if (spec)
             sl_err_set(err, "no time directory of '%s' with fluid.vtu matches -time '%s'",

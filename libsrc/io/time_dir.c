@@ -9,6 +9,7 @@
 
 #include "core/sl_mem.h"
 
+#include <ctype.h>
 #include <dirent.h>
 #include <errno.h>
 #include <math.h>
@@ -149,6 +150,75 @@ void tdir_list_free(tdir_list *l)
     free(l->time);
     free(l->name);
     memset(l, 0, sizeof *l);
+}
+
+/* ---- time selection ---- */
+
+/* A number filling [s, e) (surrounding blanks allowed); empty gives def. */
+static int tdir_spec_number(const char *s, const char *e, double def, double *out)
+{
+    while (s < e && isspace((unsigned char)*s)) s++;
+    while (e > s && isspace((unsigned char)e[-1])) e--;
+    if (s == e) {
+        *out = def;
+        return 0;
+    }
+    char buf[64], *end;
+    if ((size_t)(e - s) >= sizeof buf) return 1;
+    memcpy(buf, s, (size_t)(e - s));
+    buf[e - s] = '\0';
+    *out = strtod(buf, &end);
+    return *end != '\0' || !isfinite(*out);
+}
+
+/* Does t match spec?  -1 on a malformed spec. */
+static int tdir_spec_match(const char *spec, double t)
+{
+    const char *s = spec;
+    int hit = 0;
+    for (;;) {
+        const char *e = strchr(s, ',');
+        if (!e) e = s + strlen(s);
+        const char *colon = memchr(s, ':', (size_t)(e - s));
+        double a, b, tol = 1e-9 * (1.0 + fabs(t));
+        if (colon) {
+            if (tdir_spec_number(s, colon, -INFINITY, &a) ||
+                tdir_spec_number(colon + 1, e, INFINITY, &b))
+                return -1;
+            if (t >= a - tol && t <= b + tol) hit = 1;
+        } else {
+            if (tdir_spec_number(s, e, NAN, &a) || isnan(a)) return -1;
+            if (fabs(t - a) <= tol) hit = 1;
+        }
+        if (!*e) return hit;
+        s = e + 1;
+    }
+}
+
+int tdir_select(tdir_list *l, const char *spec, int latest, int with_first, sl_err *err)
+{
+    if (spec && tdir_spec_match(spec, 0.0) < 0) {
+        sl_err_set(err, "-time '%s': expected times and ranges such as 0.5, 0.5:1, :1, 0.5: "
+                        "separated by commas", spec);
+        return 1;
+    }
+    size_t k = 0;
+    for (size_t i = 0; i < l->n; i++) {
+        if ((i > 0 || with_first) && (!spec || tdir_spec_match(spec, l->time[i]) == 1)) {
+            l->time[k] = l->time[i];
+            l->name[k++] = l->name[i];
+        } else {
+            free(l->name[i]);
+        }
+    }
+    l->n = k;
+    if (latest && k > 1) {
+        for (size_t i = 0; i + 1 < k; i++) free(l->name[i]);
+        l->time[0] = l->time[k - 1];
+        l->name[0] = l->name[k - 1];
+        l->n = 1;
+    }
+    return 0;
 }
 
 /* mkdir that accepts an existing directory. */

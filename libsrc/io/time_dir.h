@@ -39,6 +39,15 @@ int tdir_list_read(const char *case_dir, const char *complete_marker, tdir_list 
                    sl_err *err);
 void tdir_list_free(tdir_list *l);
 
+/* OpenFOAM's time selection (timeSelector): keep in l the times that spec
+ * selects -- a comma-separated list of times and inclusive ranges, "0.5",
+ * "0.5:1", ":0.2" (up to), "0.8:" (from), e.g. "0,0.5:1"; a time matches
+ * within 1e-9 (1 + |t|); NULL selects all -- or, with latest, only the
+ * latest of them.  The first time (the initial state) is left out first
+ * unless with_first.  Returns 0, or nonzero with err filled ("-time '...':
+ * expected ...") and l unchanged on a malformed spec. */
+int tdir_select(tdir_list *l, const char *spec, int latest, int with_first, sl_err *err);
+
 /* rm -r of a file or folder (symbolic links are removed, never followed). */
 void tdir_remove_tree(const char *path);
 

@@ -105,6 +105,13 @@ static inline uint32_t rank_of(const nbr_grid *g, const int c[3])
     return g->rank[lin];
 }
 
+uint32_t nbr_cell_rank(const nbr_grid *g, double x, double y, double z)
+{
+    int c[3];
+    cell_of(g, x, y, z, c);
+    return rank_of(g, c);
+}
+
 /* Counting sort of n particles by cell rank: fills start (ncells + 1) and
  * perm (new index -> old index).  Stable, hence deterministic. */
 static void sort_by_cell(nbr_grid *g, size_t n, const double *x, const double *y,
@@ -124,6 +131,26 @@ static void sort_by_cell(nbr_grid *g, size_t n, const double *x, const double *y
     for (size_t i = 0; i < n; i++) perm[g->count[cellv[i]]++] = (uint32_t)i;
 }
 
+/* Within each cell, order the particles (perm: new -> old index) by id
+ * (insertion sort: the previous step's order is nearly sorted already).
+ * The key (cell, id) fixes the order, and so every neighbour order and
+ * every sum, whatever the order the particles came in: the history of
+ * moves, a restart, or another rank's numbering. */
+static void order_cells_by_id(const nbr_grid *g, const uint32_t *start, uint32_t *perm,
+                              const uint32_t *id)
+{
+#pragma omp parallel for schedule(dynamic, 256)
+    for (size_t k = 0; k < g->ncells; k++) {
+        uint32_t *seg = perm + start[k];
+        uint32_t len = start[k + 1] - start[k];
+        for (uint32_t a = 1; a < len; a++) {
+            uint32_t v = seg[a], c = a;
+            while (c > 0 && id[seg[c - 1]] > id[v]) { seg[c] = seg[c - 1]; c--; }
+            seg[c] = v;
+        }
+    }
+}
+
 void nbr_sort_boundary(nbr_grid *g, sl_boundary *b)
 {
     if (g->bperm_cap < b->n) { /* once: moving bodies re-sort every step */
@@ -134,19 +161,9 @@ void nbr_sort_boundary(nbr_grid *g, sl_boundary *b)
         g->bperm_cap = b->n;
     }
     sort_by_cell(g, b->n, b->x, b->y, b->z, g->bcell, g->bstart, g->bperm);
-    /* within a cell, by creation index: the order (and so every sum over
-     * boundary neighbours) does not depend on the history of moves, which
-     * keeps restarts of moving scenes bit-identical */
-#pragma omp parallel for schedule(dynamic, 256)
-    for (size_t k = 0; k < g->ncells; k++) {
-        uint32_t *seg = g->bperm + g->bstart[k];
-        uint32_t len = g->bstart[k + 1] - g->bstart[k];
-        for (uint32_t a = 1; a < len; a++) {
-            uint32_t v = seg[a], c = a;
-            while (c > 0 && b->id[seg[c - 1]] > b->id[v]) { seg[c] = seg[c - 1]; c--; }
-            seg[c] = v;
-        }
-    }
+    /* within a cell, by creation index: restarts of moving scenes stay
+     * bit-identical */
+    order_cells_by_id(g, g->bstart, g->bperm, b->id);
     prt_boundary_permute(b, g->bperm);
 }
 
@@ -158,6 +175,8 @@ void nbr_sort_fluid(nbr_grid *g, sl_fluid *f)
         g->perm_cap = f->cap;
     }
     sort_by_cell(g, f->n, f->x, f->y, f->z, f->cell, g->fstart, g->perm);
+    /* key (cell, global id): the order does not depend on the previous one */
+    order_cells_by_id(g, g->fstart, g->perm, f->id);
     prt_fluid_permute(f, g->perm);
 }
 
@@ -292,6 +311,13 @@ static void gather_both(const nbr_grid *g, nbr_list *l, nbr_list *lb, int t, con
             buf_reserve(l, t, j1 - j0);
             l->tlen[t] = filter_range(l->tbuf[t], l->tlen[t], j0, j1, i, px, py, pz, f->x, f->y,
                                       f->z, g->h2);
+            if (g->hstart && f->nhalo) { /* halo copies of the row's cells */
+                j0 = g->hstart[ka];
+                j1 = g->hstart[ke];
+                buf_reserve(l, t, j1 - j0);
+                l->tlen[t] = filter_range(l->tbuf[t], l->tlen[t], j0, j1, i, px, py, pz, f->x,
+                                          f->y, f->z, g->h2);
+            }
             j0 = g->bstart[ka];
             j1 = g->bstart[ke];
             if (j1 > j0) {
@@ -347,9 +373,10 @@ void nbr_build_ff(const nbr_grid *g, const sl_fluid *f, nbr_list *l)
 void nbr_build_fluid(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *ff,
                      nbr_list *fb)
 {
-    list_prepare(ff, f->n);
-    list_prepare(fb, f->n);
-    FOR_ROWS_BY_THREAD(ff, f->n, { gather_both(g, ff, fb, t_, f, b, (uint32_t)i); })
+    const size_t rows = f->n + f->nhalo;
+    list_prepare(ff, rows);
+    list_prepare(fb, rows);
+    FOR_ROWS_BY_THREAD(ff, rows, { gather_both(g, ff, fb, t_, f, b, (uint32_t)i); })
     list_finish(ff);
     list_finish(fb);
 }

@@ -41,6 +41,8 @@ typedef struct nbr_grid {
     uint32_t *rank;           /* rank[linear cell] = position in Z-order */
     uint32_t *fstart;         /* fluid particles of rank k: [fstart[k], fstart[k+1]) */
     uint32_t *bstart;         /* boundary particles, likewise */
+    const uint32_t *hstart;   /* fluid halo copies at [n, n + nhalo), likewise (absolute
+                                 indices; NULL: none; set by domain/) */
     uint32_t *count;          /* scratch, ncells + 1 */
     uint32_t *perm;           /* scratch permutation, fluid capacity */
     size_t perm_cap;
@@ -68,7 +70,9 @@ void nbr_grid_free(nbr_grid *g);
 
 /* Sort the boundary particles by cell (once, at set-up) and fill bstart. */
 void nbr_sort_boundary(nbr_grid *g, sl_boundary *b);
-/* Sort the fluid by cell (permuting all its arrays) and fill fstart. */
+/* Sort the fluid by the key (cell, id) (permuting all its arrays) and fill
+ * fstart: the order, hence every neighbour order, depends only on the
+ * positions and the particles' ids, not on their previous order. */
 void nbr_sort_fluid(nbr_grid *g, sl_fluid *f);
 
 void nbr_list_init(nbr_list *l);
@@ -76,7 +80,8 @@ void nbr_list_free(nbr_list *l);
 
 /* Fluid -> fluid neighbours (self excluded) within h, from x(t). */
 void nbr_build_ff(const nbr_grid *g, const sl_fluid *f, nbr_list *l);
-/* Both fluid rows (ff and fb) in one sweep over the cells. */
+/* Both fluid rows (ff and fb) in one sweep over the cells; rows for the
+ * n + nhalo particles (the halo copies' rows feed the boundary rows). */
 void nbr_build_fluid(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *ff,
                      nbr_list *fb);
 /* Fluid -> boundary neighbours within h. */
@@ -93,6 +98,9 @@ void nbr_build_bf(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nb
 void nbr_transpose(const nbr_list *fb, size_t nb, nbr_list *bf, uint32_t *active, size_t *nactive);
 /* Boundary -> boundary neighbours (self included), for set-up only. */
 void nbr_build_bb(const nbr_grid *g, const sl_boundary *b, nbr_list *l);
+
+/* The cell rank (position in the sort order) of a point. */
+uint32_t nbr_cell_rank(const nbr_grid *g, double x, double y, double z);
 
 /* Total entries of a list (for statistics). */
 static inline size_t nbr_list_size(const nbr_list *l) { return l->n ? l->start[l->n] : 0; }

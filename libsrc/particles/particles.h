@@ -19,6 +19,9 @@
 
 typedef struct sl_fluid {
     size_t n, cap;
+    size_t nhalo;             /* halo copies (periodic images, other ranks' particles) at
+                                 [n, n + nhalo): the neighbour search sees them, loops over
+                                 n do not (domain/dom_periodic.h) */
     double *x, *y, *z;        /* position at t */
     double *vx, *vy, *vz;     /* velocity at t */
     double *xs, *ys, *zs;     /* predicted position x*(t + dt) */
@@ -35,6 +38,7 @@ typedef struct sl_fluid {
 
 typedef struct sl_boundary {
     size_t n, cap;
+    size_t nimages;           /* periodic images among the n: those with id >= n - nimages */
     double *x, *y, *z;
     double *nx, *ny, *nz;     /* unit normal into the fluid */
     double *mass;             /* m_b */

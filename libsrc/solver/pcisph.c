@@ -290,9 +290,13 @@ void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b,
     nbr_list_init(&s->ff);
     nbr_list_init(&s->fb);
     nbr_list_init(&s->bf);
+    dom_halo_init(&s->halo, &p->periodic, s->h);
+    dom_boundary_images(&s->halo, b);
+    dom_periodic_wrap(&p->periodic, f->n, f->x, f->y, f->z);
     nbr_sort_boundary(&s->grid, b);
     s->cal = bnd_calibrate(&s->k, p->r0, s->mass, p->rho0);
     bnd_set_mass(&s->grid, &s->k, &s->cal, p->rho0, b);
+    dom_boundary_images_mass(&s->halo, &s->grid, &s->k, s->cal.c_static, b);
     s->active = sl_alloc_aligned((b->n + 1) * sizeof *s->active, "active boundary list");
     for (size_t m = 0; m < sizeof method_passes / sizeof *method_passes; m++)
         if (method_passes[m].type == p->method) s->passes = &method_passes[m];
@@ -320,6 +324,7 @@ void pcs_free(pcs_solver *s)
     sl_free_aligned(s->ap_best);
     if (s->prm.method && s->prm.method->free) s->prm.method->free(s->bstate);
     free(s->dens);
+    dom_halo_free(&s->halo);
     memset(s, 0, sizeof *s);
 }
 
@@ -360,6 +365,10 @@ static void move_world(pcs_solver *s)
 void pcs_find_neighbours(pcs_solver *s)
 {
     PHASE(s, sort, nbr_sort_fluid(&s->grid, s->f));
+    if (dom_halo_on(&s->halo)) { /* periodic images after the owned particles */
+        PHASE(s, halo, dom_fluid_images(&s->halo, &s->grid, s->f, s->b));
+        ensure_scratch(s);
+    }
     PHASE(s, list_ff, nbr_build_fluid(&s->grid, s->f, s->b, &s->ff, &s->fb));
     PHASE(s, list_bf, nbr_transpose(&s->fb, s->b->n, &s->bf, s->active, &s->nactive));
 }
@@ -472,6 +481,18 @@ static void solve_stats(const pcs_solver *s, pcs_stats *st, int k, double emax)
     st->nactive = s->nactive;
 }
 
+/* What the next pass reads of the halo copies, from their originals:
+ * after the prediction (what = 0) the predicted positions, after the
+ * density pass (what = 1) density, pressure and p / rho^2. */
+static void halo_refresh(pcs_solver *s, int what)
+{
+    if (!dom_halo_on(&s->halo)) return;
+    const double t0 = omp_get_wtime();
+    if (what == 0) dom_refresh_predicted(&s->halo, s->f);
+    else dom_refresh_pressure(&s->halo, s->f, s->b);
+    s->time.halo += omp_get_wtime() - t0;
+}
+
 /* The loop of Algorithm 2: predict, correct the pressure, until the
  * largest predicted compression is at most eta (after minIterations, at
  * most maxIterations). */
@@ -482,7 +503,9 @@ static void pressure_solve(pcs_solver *s, pcs_stats *st)
     int k = 0;
     for (;;) {
         PHASE(s, predict, predict_positions(s));            /* v*, x*; eq. (9)-(11) */
+        halo_refresh(s, 0);                                 /* images' x* */
         PHASE(s, density, emax = s->passes->predict(s));    /* rho*, eq. (13); p, eq. (3) */
+        halo_refresh(s, 1);                                 /* images' rho, p, p/rho^2 */
         if (k == 0) {
             st->err_max_before = emax / s->prm.rho0;
             st->err_avg_before = average_error(s, s->err);
@@ -537,6 +560,7 @@ void pcs_step(pcs_solver *s, pcs_stats *st)
     PHASE(s, forces, compute_forces(s));         /* F^{v,g,ext}; p = 0, F^p = 0 */
     pressure_solve(s, st);                       /* until rho_err* <= eta: eq. (3)-(13) */
     PHASE(s, integrate, integrate(s, st));       /* v, x (Euler-Cromer); eq. (9)-(12) */
+    dom_after_integrate(&s->halo, s->f);         /* periodic: x wrapped, images dropped */
     s->t += s->dt;
 }
 

@@ -24,6 +24,7 @@
 
 #include "boundary/bnd_method.h"
 #include "boundary/boundary.h"
+#include "domain/dom_periodic.h"
 #include "effects/effects.h"
 #include "kernel/kernel.h"
 #include "neighbours/neighbours.h"
@@ -38,6 +39,7 @@ typedef struct pcs_params {
     double epsilon;       /* eq. (12): tangential velocity kept on contact */
     const bnd_method_type *method; /* boundary handling (constant/boundaryProperties) */
     double restitution;   /* becker2009: delta of eq. (7) */
+    dom_periodic periodic; /* periodic axes and their period (axes 0: none) */
 } pcs_params;
 
 /* The compiled defaults (equal to the annotated files of etc/caseDicts;
@@ -71,6 +73,7 @@ typedef struct pcs_stats {
 typedef struct pcs_timers {
     double world, search, forces, predict, density, pressure, integrate;
     double sort, list_ff, list_bf;   /* parts of search: sorting, fluid rows, boundary rows */
+    double halo;                     /* halo copies: building (search) and refreshing */
 } pcs_timers;
 
 typedef struct pcs_solver pcs_solver;
@@ -100,6 +103,7 @@ struct pcs_solver {
     eff_instance **dens;   /* its EFF_DENSITY effects */
     size_t ndens;
     double t;              /* time of the state (set by the caller before a step) */
+    dom_halo halo;         /* periodic images (domain/dom_periodic.h) */
 };
 
 /* What function objects and post-processing read of the state (a view:

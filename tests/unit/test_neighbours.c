@@ -1,6 +1,6 @@
 /* Unit tests: grid neighbour search against brute force, Z-order sorting,
- * clamping of particles outside the grid, and identical lists for any
- * thread count. */
+ * clamping of particles outside the grid, identical lists for any
+ * thread count and an order that does not depend on the input order. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -219,6 +219,32 @@ static void test_combined_build(void **state)
     free_world(&w);
 }
 
+/* The sort key is (cell, id): a fluid given in another order (reversed,
+ * as another rank or a restart could hold it) sorts to the same order,
+ * ids and positions alike. */
+static void test_order_independent_of_input_order(void **state)
+{
+    (void)state;
+    world w;
+    make_world(&w);
+    const size_t n = w.f.n;
+    uint32_t *rev = malloc(n * sizeof *rev), *id0 = malloc(n * sizeof *id0);
+    double *x0 = malloc(n * sizeof *x0);
+    memcpy(id0, w.f.id, n * sizeof *id0);
+    memcpy(x0, w.f.x, n * sizeof *x0);
+    for (size_t i = 0; i < n; i++) rev[i] = (uint32_t)(n - 1 - i);
+    prt_fluid_permute(&w.f, rev);
+    nbr_sort_fluid(&w.g, &w.f);
+    assert_memory_equal(id0, w.f.id, n * sizeof *id0);
+    assert_memory_equal(x0, w.f.x, n * sizeof *x0);
+    for (size_t i = 1; i < n; i++)
+        if (w.f.cell[i] == w.f.cell[i - 1]) assert_true(w.f.id[i] > w.f.id[i - 1]);
+    free(rev);
+    free(id0);
+    free(x0);
+    free_world(&w);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -228,6 +254,7 @@ int main(void)
         cmocka_unit_test(test_same_lists_any_thread_count),
         cmocka_unit_test(test_combined_build),
         cmocka_unit_test(test_transpose),
+        cmocka_unit_test(test_order_independent_of_input_order),
     };
     return cmocka_run_group_tests_name("neighbours", tests, NULL, NULL);
 }

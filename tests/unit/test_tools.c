@@ -298,7 +298,7 @@ static void test_sweep_print_jobs(void **state)
 {
     (void)state;
     write_sweep(OUT "/sweepJobs", "");
-    assert_int_equal(tool("sweepCase", "-print-jobs " OUT "/sweepJobs/sweepDict 2>/dev/null",
+    assert_int_equal(tool("sweepCase", "-printJobs " OUT "/sweepJobs/sweepDict 2>/dev/null",
                           bin_dir()),
                      0);
     char *line2 = strchr(output, '\n');
@@ -504,7 +504,7 @@ static void test_plot_sweep_pareto(void **state)
         skip();
         return;
     }
-    assert_int_equal(tool("plotSweep", "-pareto -o " PARETO "/front.png " PARETO
+    assert_int_equal(tool("plotSweep", "-pareto -output " PARETO "/front.png " PARETO
                           "/results.csv wallTime err",
                           bin_dir()),
                      0);
@@ -780,6 +780,179 @@ static void test_run_tests_names_and_skips(void **state)
     assert_false(exists(OUT "/runtests/table.md"));
 }
 
+
+/* ---- the application frame (libsrc/app) ------------------------------------------- */
+
+/* Every program of bin/: the frame's -help, -completionWords and errors. */
+static const char *const programs[] = {
+    "pcisph",         "benchPcisph",   "boundarySmoothness", "cleanCase",  "cloneCase",
+    "compareExperiment", "densityError", "editDictionary",   "listTimes",  "monitorCase",
+    "plotSweep",      "postProcess",   "sampleBoundary",     "stableTimeStep", "sweepCase"};
+enum { NPROGRAMS = sizeof programs / sizeof *programs };
+
+/* The options of a program's table, as -completionWords lists them
+ * ("-name kind [glob]" lines): the names, NUL-separated, into buf. */
+static size_t table_options(const char *prog, char *buf, size_t len, char kinds[][16])
+{
+    assert_int_equal(run("%s/%s -completionWords", bin_dir(), prog), 0);
+    size_t n = 0, used = 0;
+    for (char *line = strtok(output, "\n"); line; line = strtok(NULL, "\n")) {
+        char name[64], kind[16];
+        if (line[0] != '-') continue;
+        assert_int_equal(sscanf(line, "%63s %15s", name, kind), 2);
+        assert_true(used + strlen(name) + 1 < len);
+        strcpy(buf + used, name);
+        strcpy(kinds[n++], kind);
+        used += strlen(name) + 1;
+    }
+    return n;
+}
+
+/* The generated -help lists every declared option, and no other, and exits 0. */
+static void test_app_help_lists_every_option(void **state)
+{
+    (void)state;
+    for (int p = 0; p < NPROGRAMS; p++) {
+        char names[4096], kinds[64][16];
+        size_t n = table_options(programs[p], names, sizeof names, kinds);
+        assert_true(n >= 1); /* at least -help */
+        assert_int_equal(run("%s/%s -help", bin_dir(), programs[p]), 0);
+        char want[128];
+        snprintf(want, sizeof want, "Usage: %s [options]", programs[p]);
+        if (strncmp(output, want, strlen(want))) fail_msg("%s -help: %.200s", programs[p], output);
+        const char *opts = strstr(output, "\nOptions:\n"), *end;
+        assert_non_null(opts);
+        end = strstr(opts + 1, "\n\n");
+        if (!end) end = opts + strlen(opts);
+        const char *name = names;
+        for (size_t k = 0; k < n; k++, name += strlen(name) + 1) {
+            char line[128];
+            snprintf(line, sizeof line, "\n  %.100s", name);
+            const char *at = strstr(opts, line);
+            if (!at || at > end || (at[strlen(line)] != ' ' && at[strlen(line)] != '\n'))
+                fail_msg("%s -help does not list %s:\n%s", programs[p], name, output);
+        }
+        size_t listed = 0; /* lines "  -x" of the Options section */
+        for (const char *q = opts; (q = strstr(q + 1, "\n  -")) && q < end;) listed++;
+        if (listed != n) fail_msg("%s -help lists %zu options, its table %zu", programs[p], listed, n);
+    }
+}
+
+/* A bad number is refused before anything is done, naming the option and
+ * the value, with exit status 2 -- also out of range. */
+static void test_app_bad_number_refused(void **state)
+{
+    (void)state;
+    static const char *const bad[][3] = {
+        {"benchPcisph", "-particles abc", "benchPcisph: -particles: 'abc' is not an integer"},
+        {"benchPcisph", "-steps 1e3", "benchPcisph: -steps: '1e3' is not an integer"},
+        {"benchPcisph", "-particles 10", "benchPcisph: -particles: '10' must be from 1000 to"},
+        {"sweepCase", "-jobs x2 d", "sweepCase: -jobs: 'x2' is not an integer"},
+        {"sweepCase", "-jobs 0 d", "sweepCase: -jobs: '0' must be from 1 to 4096"},
+        {"monitorCase", "-refresh soon", "monitorCase: -refresh: 'soon' is not a number"},
+        {"monitorCase", "-refresh 0", "monitorCase: -refresh: '0' must be above 0"},
+        {"stableTimeStep", "-dtMin 1e-3x", "stableTimeStep: -dtMin: '1e-3x' is not a number"},
+        {"stableTimeStep", "-tolerance 5%x", "stableTimeStep: -tolerance: '5%x' is not a positive number"},
+        {"compareExperiment", "-filter nan -data x", "compareExperiment: -filter: 'nan' is not a number"},
+        {"listTimes", "-time 0.1,x " OUT "/badNumber", "-time '0.1,x': expected times and ranges"},
+        {"pcisph", "-case", "pcisph: -case needs an argument <dir>"},
+    };
+    fake_case(OUT "/badNumber");
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        char want[160];
+        int rc = run("%s/%s %s", bin_dir(), bad[i][0], bad[i][1]);
+        if (rc != 2 || !strstr(output, bad[i][2]))
+            fail_msg("%s %s: status %d, output\n%s\n(wanted '%s')", bad[i][0], bad[i][1], rc,
+                     output, bad[i][2]);
+        snprintf(want, sizeof want, "Usage: %s [options]", bad[i][0]);
+        assert_non_null(strstr(output, want));
+    }
+}
+
+/* Old spellings still work, each with a one-line warning naming the new
+ * one; the new spelling gives no warning. */
+static void test_app_old_spelling_warns(void **state)
+{
+    (void)state;
+    fake_case(OUT "/alias");
+    assert_int_equal(tool("cleanCase", "-dry-run -case " OUT "/alias", bin_dir()), 0);
+    assert_non_null(strstr(output, "Warning: cleanCase: -dry-run is an old spelling: use -dryRun\n"));
+    assert_non_null(strstr(output, "would remove " OUT "/alias/0.1"));
+    assert_true(exists(OUT "/alias/0.1")); /* a dry run still */
+    assert_int_equal(tool("cleanCase", "-n " OUT "/alias", bin_dir()), 0);
+    assert_non_null(strstr(output, "-n is an old spelling: use -dryRun"));
+    assert_int_equal(tool("cleanCase", "-dryRun " OUT "/alias", bin_dir()), 0);
+    assert_null(strstr(output, "Warning"));
+    assert_true(exists(OUT "/alias/0.1"));
+    /* the -help lists them */
+    assert_int_equal(tool("cleanCase", "-help", bin_dir()), 0);
+    assert_non_null(strstr(output, "-dry-run, -n: use -dryRun"));
+}
+
+/* An unknown option is refused with the nearest declared one. */
+static void test_app_unknown_did_you_mean(void **state)
+{
+    (void)state;
+    static const char *const bad[][3] = {
+        {"listTimes", "-latesttime", "listTimes: unknown option '-latesttime'; did you mean -latestTime?"},
+        {"pcisph", "-quite", "pcisph: unknown option '-quite'; did you mean -quiet?"},
+        {"sweepCase", "-printjobs d", "sweepCase: unknown option '-printjobs'; did you mean -printJobs?"},
+        {"postProcess", "-hlep", "postProcess: unknown option '-hlep'; did you mean -help?"},
+        {"cloneCase", "-frobnicate a b", "cloneCase: unknown option '-frobnicate'\n"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        int rc = run("%s/%s %s", bin_dir(), bad[i][0], bad[i][1]);
+        if (rc != 2 || !strstr(output, bad[i][2]))
+            fail_msg("%s %s: status %d, output\n%s", bad[i][0], bad[i][1], rc, output);
+    }
+    /* twice, missing and extra arguments */
+    assert_int_equal(tool("listTimes", "-case a -case b", bin_dir()), 2);
+    assert_non_null(strstr(output, "listTimes: -case is given twice"));
+    assert_int_equal(tool("cloneCase", "a", bin_dir()), 2);
+    assert_non_null(strstr(output, "cloneCase: missing argument: <source case> <new case>"));
+    assert_int_equal(tool("cloneCase", "a b c", bin_dir()), 2);
+    assert_non_null(strstr(output, "cloneCase: unexpected argument 'c'"));
+    assert_int_equal(tool("postProcess", "-time 1 -latestTime", bin_dir()), 2);
+    assert_non_null(strstr(output, "give -time or -latestTime, not both"));
+}
+
+/* The completion words are the table's options (each with a kind), and
+ * etc/bash_completion completes from them: options after '-', folders
+ * after -case, PNG files after -png. */
+static void test_app_completion_words(void **state)
+{
+    (void)state;
+    static const char *const kinds[] = {"none", "int", "double", "string", "path", "dir"};
+    for (int p = 0; p < NPROGRAMS; p++) {
+        char names[4096], kind[64][16];
+        size_t n = table_options(programs[p], names, sizeof names, kind);
+        int help = 0;
+        const char *name = names;
+        for (size_t k = 0; k < n; k++, name += strlen(name) + 1) {
+            int known = 0;
+            for (size_t j = 0; j < sizeof kinds / sizeof *kinds; j++) known |= !strcmp(kind[k], kinds[j]);
+            if (!known) fail_msg("%s: %s has kind '%s'", programs[p], name, kind[k]);
+            help |= !strcmp(name, "-help");
+        }
+        assert_true(help);
+    }
+    assert_int_equal(tool("cleanCase", "-completionWords", bin_dir()), 0);
+    assert_string_equal(output, "-case dir\n-dryRun none\n-help none\n@args dir\n");
+    /* bash, through etc/bash_completion */
+    fresh(OUT "/complete");
+    spit(OUT "/complete/a.png", "");
+    spit(OUT "/complete/b.txt", "");
+    spit(OUT "/complete/try.sh",
+         ". etc/bash_completion\n"
+         "c() { COMP_WORDS=(\"$@\"); COMP_CWORD=$(($# - 1)); _sluice_complete; "
+         "echo \"${COMPREPLY[*]}\"; }\n"
+         "c cleanCase -d\nc listTimes -la\nc monitorCase -png " OUT "/complete/\n"
+         "c sweepCase -print\ncomplete -p pcisph\n");
+    assert_int_equal(run("PATH=%s:$PATH bash " OUT "/complete/try.sh", bin_dir()), 0);
+    assert_string_equal(output, "-dryRun\n-latestTime\n" OUT "/complete/a.png\n-printJobs\n"
+                                "complete -F _sluice_complete pcisph\n");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -803,6 +976,11 @@ int main(void)
         cmocka_unit_test(test_plot_units),
         cmocka_unit_test(test_demo_says_what_and_where),
         cmocka_unit_test(test_progress_module),
+        cmocka_unit_test(test_app_help_lists_every_option),
+        cmocka_unit_test(test_app_bad_number_refused),
+        cmocka_unit_test(test_app_old_spelling_warns),
+        cmocka_unit_test(test_app_unknown_did_you_mean),
+        cmocka_unit_test(test_app_completion_words),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -16,6 +16,7 @@
  * (sl_progress); the End summary reports this session and, after a
  * restart, the whole run.
  */
+#include "app/app.h"
 #include "case/case.h"
 #include "case/case_lock.h"
 #include "case/case_output.h"
@@ -104,19 +105,21 @@ static void on_write(int sig)
     write_requested = 1;
 }
 
-static void usage(int status)
-{
-    fprintf(status ? stderr : stdout,
-            "Usage: pcisph [-case <dir>] [-quiet] [-resume] [-help]\n"
-            "  Runs the PCISPH solver on the case in <dir> (default: the current directory).\n"
-            "  -quiet   print no per-step line (summary and errors only)\n"
-            "  -resume  continue from the latest time directory (startFrom latestTime for\n"
-            "           this run)\n"
-            "  Signals: INT/TERM write and stop; USR1 (or a file <dir>/writeNow) writes now.\n"
-            "  One solver per case (lock <dir>/.sluice.lock); progress and the time left go to\n"
-            "  stderr (SLUICE_PROGRESS=off|line|plain).\n");
-    exit(status);
-}
+static const app_option options[] = {
+    APP_CASE,
+    {.name = "quiet", .help = "print no per-step line (summary and errors only)"},
+    {.name = "resume",
+     .help = "continue from the latest time directory (startFrom latestTime for\n"
+             "this run)"},
+    APP_END};
+
+static const app_info info = {
+    .name = "pcisph",
+    .what = "Runs the PCISPH solver on a case.\n"
+            "Signals: INT/TERM write and stop; USR1 (or a file <dir>/writeNow) writes now.\n"
+            "One solver per case (lock <dir>/.sluice.lock); progress and the time left go to\n"
+            "stderr (SLUICE_PROGRESS=off|line|plain).",
+    .options = options};
 
 static void print_world(const run *r, const char *dt_rule)
 {
@@ -124,8 +127,14 @@ static void print_world(const run *r, const char *dt_rule)
     const pcs_solver *s = &r->s;
     sl_info("Case %s", c->dir);
     sl_info("  fluid particles     %zu", c->fluid.n);
-    sl_info("  boundary particles  %zu (%zu shapes, method %s)", c->boundary.n, c->nshapes,
-            c->prm.method->name);
+    sl_info("  boundary particles  %zu (%zu shapes, method %s)", c->boundary.n - c->boundary.nimages,
+            c->nshapes, c->prm.method->name);
+    if (c->prm.periodic.axes) {
+        char ax[8];
+        dom_periodic_axes_text(c->prm.periodic.axes, ax, sizeof ax);
+        sl_info("  periodic            %s (%zu boundary images; fluid images every step)", ax,
+                c->boundary.nimages);
+    }
     sl_info("  particle spacing r0 %g m, support radius h %g m", c->prm.r0, s->h);
     sl_info("  particle mass       %g kg (rho0 r0^3), rho0 %g kg/m^3", s->mass, c->prm.rho0);
     sl_info("  boundary mass       gamma %.6f (Akinci volume x gamma), static density factor %.6f",
@@ -580,13 +589,12 @@ static void stopped_by_signal(run *r)
 
 static void parse_args(run *r, int argc, char **argv, const char **dir)
 {
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "-case") && i + 1 < argc) *dir = argv[++i];
-        else if (!strcmp(argv[i], "-quiet")) r->quiet = 1;
-        else if (!strcmp(argv[i], "-resume")) r->resume = 1;
-        else if (!strcmp(argv[i], "-help") || !strcmp(argv[i], "--help")) usage(0);
-        else { fprintf(stderr, "pcisph: unknown option '%s'\n", argv[i]); usage(2); }
-    }
+    app a;
+    app_parse(&a, &info, argc, argv);
+    *dir = app_case(&a);
+    r->quiet = app_found(&a, "quiet");
+    r->resume = app_found(&a, "resume");
+    app_free(&a);
 }
 
 static void alloc_state(run *r)

@@ -11,6 +11,7 @@
  * and pressure force over the stored lists), to compare with the hardware
  * ceiling.  Threads: OMP_NUM_THREADS.
  */
+#include "app/app.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 #include "geometry/geometry.h"
@@ -28,21 +29,49 @@ typedef struct bench_args {
     int iterations;
 } bench_args;
 
+static const app_option options[] = {
+    {.name = "particles",
+     .kind = APP_INT,
+     .help = "fluid particles of the scene",
+     .def = "100000",
+     .min = 1000,
+     .max = 1e9},
+    {.name = "steps", .kind = APP_INT, .help = "steps timed", .def = "20", .min = 1, .max = 1e9},
+    {.name = "iterations",
+     .kind = APP_INT,
+     .help = "PCISPH iterations per step (min and max)",
+     .def = "3",
+     .min = 1,
+     .max = 1000},
+    {.name = "micro",
+     .kind = APP_INT,
+     .arg = "<R>",
+     .help = "also time R repetitions of the neighbour passes alone",
+     .def = "0",
+     .min = 0,
+     .max = 1e9},
+    APP_END};
+
+static const app_info info = {
+    .name = "benchPcisph",
+    .what = "One benchmark run of the PCISPH step on a dam-break scene of the given\n"
+            "size (a fluid block 0.4 x 0.6 x 0.6 in the corner of a closed tank four\n"
+            "block-lengths long, full boundary), with a constant time step and a fixed\n"
+            "number of PCISPH iterations.  Prints key=value lines (tests/bench/run_bench\n"
+            "turns them into the report).  Threads: OMP_NUM_THREADS.",
+    .options = options};
+
 static bench_args parse(int argc, char **argv)
 {
-    bench_args a = {100000, 20, 0, 3};
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "-particles") && i + 1 < argc) a.particles = atol(argv[++i]);
-        else if (!strcmp(argv[i], "-steps") && i + 1 < argc) a.steps = atol(argv[++i]);
-        else if (!strcmp(argv[i], "-iterations") && i + 1 < argc) a.iterations = atoi(argv[++i]);
-        else if (!strcmp(argv[i], "-micro") && i + 1 < argc) a.micro = atol(argv[++i]);
-        else {
-            fprintf(stderr, "Usage: benchPcisph -particles N [-steps S] [-iterations K] [-micro R]\n");
-            exit(2);
-        }
-    }
-    if (a.particles < 1000 || a.steps < 1 || a.iterations < 1) sl_fatal("benchPcisph: bad arguments");
-    return a;
+    app a;
+    bench_args b;
+    app_parse(&a, &info, argc, argv);
+    b.particles = app_int(&a, "particles", 100000);
+    b.steps = app_int(&a, "steps", 20);
+    b.iterations = (int)app_int(&a, "iterations", 3);
+    b.micro = app_int(&a, "micro", 0);
+    app_free(&a);
+    return b;
 }
 
 /* The scene: block 0.4 s x 0.6 s x 0.6 s with s chosen for N particles at

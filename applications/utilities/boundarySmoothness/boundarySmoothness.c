@@ -21,9 +21,10 @@
  *                  one put back exactly to r0 / 2 by a position correction
  *                  (to within 1e-9 r0, rounding) counts as touching
  *
- *   boundarySmoothness -case <dir> [-time t | -latestTime | -allTimes]
+ *   boundarySmoothness -case <dir> [-time <times> | -latestTime | -allTimes]
  *
- * Prints "key value" lines; with -allTimes also one row per time to
+ * Prints "key value" lines; with -allTimes (or a -time selecting several
+ * times) also one row per time to
  * postProcessing/boundarySmoothness/<first time>/boundarySmoothness.dat and
  * a summary over the times.
  */
@@ -34,6 +35,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "app/app.h"
 #include "case/case.h"
 #include "casefiles/casefiles.h"
 #include "core/sl_log.h"
@@ -54,19 +56,22 @@ typedef struct smooth {
     double dmin;         /* smallest distance of a fluid particle to a wall, m */
 } smooth;
 
-static void usage(int status)
-{
-    fprintf(status ? stderr : stdout,
-            "Usage: boundarySmoothness -case <dir> [-time t | -latestTime | -allTimes]\n"
-            "  Near-wall pressure smoothness of the fluid.vtu of a time directory (default:\n"
-            "  the latest): for the fluid particles within h = 2 r0 of a wall surface, the\n"
-            "  ratio of the 99th percentile of their pressures p > 0 to the median, and the\n"
-            "  number of fluid particles closer than r0/2 to a wall surface (stacked).\n"
-            "  -allTimes  every time directory: a table in\n"
-            "             postProcessing/boundarySmoothness/<first time>/boundarySmoothness.dat\n"
-            "             and its mean and maximum\n");
-    exit(status);
-}
+static const app_option options[] = {
+    APP_CASE,
+    APP_TIMES,
+    {.name = "allTimes",
+     .help = "every time directory: a table in\n"
+             "postProcessing/boundarySmoothness/<first time>/boundarySmoothness.dat\n"
+             "and its mean and maximum (so does a -time selecting several)"},
+    APP_END};
+
+static const app_info info = {
+    .name = "boundarySmoothness",
+    .what = "Near-wall pressure smoothness of the fluid.vtu of a time directory (default:\n"
+            "the latest): for the fluid particles within h = 2 r0 of a wall surface, the\n"
+            "ratio of the 99th percentile of their pressures p > 0 to the median, and the\n"
+            "number of fluid particles closer than r0/2 to a wall surface (stacked).",
+    .options = options};
 
 /* Distance from p to the nearest wall surface: positive on the fluid side,
  * negative beyond a wall.  Open container faces are no walls. */
@@ -197,43 +202,26 @@ static void all_times(const sl_case *c, const char *dir, const tdir_list *l)
 
 int main(int argc, char **argv)
 {
-    const char *dir = NULL, *time = NULL;
-    int all = 0;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "-case") && i + 1 < argc) dir = argv[++i];
-        else if (!strcmp(argv[i], "-time") && i + 1 < argc) time = argv[++i];
-        else if (!strcmp(argv[i], "-latestTime")) time = NULL;
-        else if (!strcmp(argv[i], "-allTimes")) all = 1;
-        else if (!strcmp(argv[i], "-help") || !strcmp(argv[i], "--help")) usage(0);
-        else {
-            fprintf(stderr, "boundarySmoothness: unknown option '%s'\n", argv[i]);
-            usage(2);
-        }
-    }
-    if (!dir) usage(2);
+    app a;
+    app_parse(&a, &info, argc, argv);
+    const char *dir = app_case(&a);
     sl_case c;
-    sl_err err;
     tdir_list l;
     case_read(&c, dir);
-    if (tdir_list_read(dir, "fluid.vtu", &l, &err)) sl_fatal("%s", err.msg);
-    if (!l.n) sl_fatal("%s: no time directory with a fluid.vtu", dir);
-    if (all) {
+    app_times(&a, dir, "fluid.vtu", 1, &l);
+    if (!l.n)
+        sl_fatal("%s: no time directory with a fluid.vtu%s%s", dir,
+                 app_found(&a, "time") ? " matches -time " : "", app_string(&a, "time", ""));
+    if (app_found(&a, "allTimes") || (app_found(&a, "time") && l.n > 1)) {
         all_times(&c, dir, &l);
     } else {
-        size_t k = l.n - 1;
-        if (time) {
-            char *end;
-            double t = strtod(time, &end);
-            if (*end || end == time) sl_fatal("-time needs a number, not '%s'", time);
-            for (k = 0; k < l.n && fabs(l.time[k] - t) > 1e-9 * (1.0 + fabs(t)); k++) continue;
-            if (k == l.n) sl_fatal("%s: no time directory %s with a fluid.vtu", dir, time);
-        }
-        char *vtu = vtu_of(dir, l.name[k]);
+        char *vtu = vtu_of(dir, l.name[l.n - 1]);
         smooth m = measure(&c, vtu);
         print_one(&c, vtu, &m);
         free(vtu);
     }
     tdir_list_free(&l);
     case_free(&c);
+    app_free(&a);
     return 0;
 }

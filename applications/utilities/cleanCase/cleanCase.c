@@ -5,8 +5,9 @@
  * holding input files (initial conditions) is kept; only the solver's
  * output (fluid.vtu, boundary.vtu, uniform/) is removed from it.
  *
- *   cleanCase [-case <dir>] [-dry-run]
+ *   cleanCase [-case <dir>] [-dryRun] [<case>]
  */
+#include "app/app.h"
 #include "casefiles/casefiles.h"
 #include "core/sl_log.h"
 
@@ -18,20 +19,22 @@
 
 static int dry_run;
 
-static void usage(int status)
-{
-    fprintf(status ? stderr : stdout,
-            "Usage: cleanCase [-case <dir>] [-dry-run] [<case>]\n"
-            "  Removes the results of a case: time directories, '*.tmp.*' folders and\n"
-            "  files, collections (*.pvd, *.vtu.series), postProcessing/ and log.*.\n"
-            "  A time directory 0 that holds input files is kept (only the solver's\n"
-            "  fluid.vtu, boundary.vtu and uniform/ are removed from it).  Prints what\n"
-            "  it removes.\n"
-            "  -case <dir>  the case (default: the current directory)\n"
-            "  -dry-run     only print what would be removed\n"
-            "  -help        print this help\n");
-    exit(status);
-}
+static const app_option options[] = {
+    APP_CASE,
+    {.name = "dryRun", .help = "only print what would be removed", .aliases = "dry-run n"},
+    APP_END};
+
+static const app_info info = {
+    .name = "cleanCase",
+    .what = "Removes the results of a case: time directories, '*.tmp.*' folders and\n"
+    "files, collections (*.pvd, *.vtu.series), postProcessing/ and log.*.\n"
+    "A time directory 0 that holds input files is kept (only the solver's\n"
+    "fluid.vtu, boundary.vtu and uniform/ are removed from it).  Prints what\n"
+    "it removes.  The case may also be given as the argument.",
+    .options = options,
+    .args = "[<case>]",
+    .max_args = 1,
+    .args_kind = APP_DIR};
 
 static void remove_path(const char *path)
 {
@@ -78,18 +81,10 @@ static void clean_entry(const char *dir, const char *name)
 
 int main(int argc, char **argv)
 {
-    const char *dir = ".";
-    int positional = 0;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "-case") && i + 1 < argc) dir = argv[++i];
-        else if (!strcmp(argv[i], "-dry-run") || !strcmp(argv[i], "-n")) dry_run = 1;
-        else if (!strcmp(argv[i], "-help") || !strcmp(argv[i], "--help")) usage(0);
-        else if (argv[i][0] != '-' && !positional++) dir = argv[i];
-        else {
-            fprintf(stderr, "cleanCase: unknown or incomplete option '%s'\n", argv[i]);
-            usage(2);
-        }
-    }
+    app a;
+    app_parse(&a, &info, argc, argv);
+    const char *dir = a.nargs ? a.args[0] : app_case(&a);
+    dry_run = app_found(&a, "dryRun");
     if (!cf_is_case(dir)) sl_fatal("'%s' is not a case: it has no system/controlDict", dir);
 
     DIR *d = opendir(dir);
@@ -98,5 +93,6 @@ int main(int argc, char **argv)
     while ((de = readdir(d)))
         if (strcmp(de->d_name, ".") && strcmp(de->d_name, "..")) clean_entry(dir, de->d_name);
     closedir(d);
+    app_free(&a);
     return 0;
 }

@@ -5,6 +5,7 @@
  *
  *   cloneCase [-force] <source case> <new case>
  */
+#include "app/app.h"
 #include "casefiles/casefiles.h"
 #include "core/sl_log.h"
 
@@ -14,18 +15,21 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void usage(int status)
-{
-    fprintf(status ? stderr : stdout,
-            "Usage: cloneCase [-force] <source case> <new case>\n"
-            "  Copies system/, constant/ and the files at the root of a case (Allrun,\n"
-            "  Allclean, ...), but no results: no time directories (only the input\n"
-            "  files of a time directory 0, if it holds any), '*.tmp.*', collections\n"
-            "  (*.pvd, *.vtu.series), logs (log.*) or postProcessing/.\n"
-            "  -force  replace <new case> if it exists (it is removed first)\n"
-            "  -help   print this help\n");
-    exit(status);
-}
+static const app_option options[] = {
+    {.name = "force", .help = "replace <new case> if it exists (it is removed first)"},
+    APP_END};
+
+static const app_info info = {
+    .name = "cloneCase",
+    .what = "Copies system/, constant/ and the files at the root of a case (Allrun,\n"
+            "Allclean, ...), but no results: no time directories (only the input\n"
+            "files of a time directory 0, if it holds any), '*.tmp.*', collections\n"
+            "(*.pvd, *.vtu.series), logs (log.*) or postProcessing/.",
+    .options = options,
+    .args = "<source case> <new case>",
+    .min_args = 2,
+    .max_args = 2,
+    .args_kind = APP_DIR};
 
 /* Refuse to replace the source, a folder holding it, or a non-case. */
 static void check_target(const char *src, const char *dst, int force)
@@ -46,23 +50,15 @@ static void check_target(const char *src, const char *dst, int force)
 
 int main(int argc, char **argv)
 {
-    const char *src = NULL, *dst = NULL;
-    int force = 0;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "-force")) force = 1;
-        else if (!strcmp(argv[i], "-help") || !strcmp(argv[i], "--help")) usage(0);
-        else if (argv[i][0] == '-') {
-            fprintf(stderr, "cloneCase: unknown option '%s'\n", argv[i]);
-            usage(2);
-        } else if (!src) src = argv[i];
-        else if (!dst) dst = argv[i];
-        else usage(2);
-    }
-    if (!src || !dst) usage(2);
+    app a;
+    app_parse(&a, &info, argc, argv);
+    const char *src = a.args[0], *dst = a.args[1];
+    int force = app_found(&a, "force");
     check_target(src, dst, force);
     sl_err err;
     int copied;
     if (cf_clone_case(src, dst, &copied, &err)) sl_fatal("%s", err.msg);
     printf("Cloned %s to %s (%d entries of input)\n", src, dst, copied);
+    app_free(&a);
     return 0;
 }

@@ -11,6 +11,7 @@
  */
 #include "ce.h"
 
+#include "casefiles/casefiles.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 
@@ -19,8 +20,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 /* Rows of the raw and filtered series (and band) inside [x0, x1]. */
 static void write_dat(const char *path, const ce_series *raw, const ce_series *filt,
@@ -109,34 +108,11 @@ static void write_script(FILE *f, const char *dir_name, const ce_group *g, const
 static int run_gnuplot(const char *dir, const char *name)
 {
     char script[512];
+    sl_err err;
     snprintf(script, sizeof script, "%s.gp", name);
-    fflush(NULL);
-    pid_t pid = fork();
-    if (pid < 0) {
-        sl_warning("cannot start gnuplot: %s", strerror(errno));
-        return 1;
-    }
-    if (pid == 0) {
-        if (chdir(dir) != 0) _exit(126);
-        execlp("gnuplot", "gnuplot", script, (char *)NULL);
-        _exit(127);
-    }
-    int status;
-    while (waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR) {
-            sl_warning("lost gnuplot: %s", strerror(errno));
-            return 1;
-        }
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
-        sl_warning("gnuplot not found: no plot (Debian: apt-get install gnuplot-nox); run "
-                   "'gnuplot %s' in %s later", script, dir);
-        return 1;
-    }
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        sl_warning("gnuplot failed on %s/%s: no plot", dir, script);
-        return 1;
-    }
-    return 0;
+    if (!cf_plot_script(dir, script, &err)) return 0;
+    sl_warning("%s: no plot; run 'gnuplot %s' in %s later", err.msg, script, dir);
+    return 1;
 }
 
 int ce_plot_group(const char *dir, const ce_group *g, const ce_result *r, size_t n,

@@ -22,6 +22,7 @@
  */
 #include "ce.h"
 
+#include "app/app.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 
@@ -41,95 +42,86 @@ typedef struct options {
     double filter; /* < 0: the dictionary's */
 } options;
 
-static void usage(int status)
-{
-    fprintf(status ? stderr : stdout,
-            "Usage: compareExperiment [-case <dir>] -data <csv> [-data <csv> ...] [options]\n"
-            "  Compares the water heights and pressures a run's function objects wrote\n"
-            "  (postProcessing/<name>/<startTime>/*.dat) with an experiment's CSV files,\n"
-            "  column by column as <dir>/system/compareExperimentDict says.  Writes\n"
-            "  <dir>/postProcessing/compareExperiment/table.md, table.csv, one PNG per\n"
-            "  group (gnuplot) and summary.dat: one row of means over the series (height\n"
-            "  RMS and largest error, arrival, plateau and peak errors) for sweepCase's\n"
-            "  'results'.  A group with 'summary no;' in the dictionary is left out of it\n"
-            "  (default yes); dictionary syntax: see ce_setup.c or\n"
-            "  cases/sphericTest2/system/compareExperimentDict.\n"
-            "  -case <dir>      the case (default: the current directory)\n"
-            "  -data <csv>      experimental data: '#' comment lines, a header row,\n"
-            "                   comma-separated rows, time in the first column; repeat for\n"
-            "                   several files (a column is taken from the first file that has it)\n"
-            "  -dict <file>     the dictionary (default <dir>/system/compareExperimentDict)\n"
-            "  -window t0:t1    the window of errors and peaks, s, for every series\n"
-            "                   (either side may be empty: 0.5:  :1.5)\n"
-            "  -filter <s>      width of the pressure filter (centred moving average), s;\n"
-            "                   0: none (default: the dictionary's 'filter')\n"
-            "  -noPlot          write the data and gnuplot scripts, do not run gnuplot\n"
-            "  -help            print this help\n");
-    exit(status);
-}
+static const app_option table[] = {
+    APP_CASE,
+    {.name = "data",
+     .kind = APP_PATH,
+     .arg = "<csv>",
+     .help = "experimental data: '#' comment lines, a header row,\n"
+             "comma-separated rows, time in the first column; repeat for\n"
+             "several files (a column is taken from the first file that has it)",
+     .repeat = 1,
+     .glob = "*.csv"},
+    {.name = "dict",
+     .kind = APP_PATH,
+     .help = "the dictionary",
+     .def = "<dir>/system/compareExperimentDict"},
+    {.name = "window",
+     .kind = APP_STRING,
+     .arg = "<t0:t1>",
+     .help = "the window of errors and peaks, s, for every series\n"
+             "(either side may be empty: 0.5:  :1.5)"},
+    {.name = "filter",
+     .kind = APP_DOUBLE,
+     .arg = "<s>",
+     .help = "width of the pressure filter (centred moving average), s;\n"
+             "0: none",
+     .def = "the dictionary's 'filter'",
+     .min = 0,
+     .max = INFINITY},
+    {.name = "noPlot", .help = "write the data and gnuplot scripts, do not run gnuplot"},
+    APP_END};
 
-static double parse_number(const char *s, const char *opt)
+static const app_info info = {
+    .name = "compareExperiment",
+    .what = "Compares the water heights and pressures a run's function objects wrote\n"
+            "(postProcessing/<name>/<startTime>/*.dat) with an experiment's CSV files,\n"
+            "column by column as <dir>/system/compareExperimentDict says.  Writes\n"
+            "<dir>/postProcessing/compareExperiment/table.md, table.csv, one PNG per\n"
+            "group (gnuplot) and summary.dat: one row of means over the series (height\n"
+            "RMS and largest error, arrival, plateau and peak errors) for sweepCase's\n"
+            "'results'.  A group with 'summary no;' in the dictionary is left out of it\n"
+            "(default yes); dictionary syntax: see ce_setup.c or\n"
+            "cases/sphericTest2/system/compareExperimentDict.  -data is required.",
+    .options = table};
+
+static double window_end(const app *a, const char *s, const char *all)
 {
-    char *end;
-    double x = strtod(s, &end);
-    if (end == s || *end || !isfinite(x)) {
-        fprintf(stderr, "compareExperiment: %s: '%s' is not a number\n", opt, s);
-        usage(2);
-    }
+    double x;
+    if (app_parse_double(s, &x)) app_error(a, "-window: '%s' is not a number (in '%s')", s, all);
     return x;
 }
 
-static void parse_window(const char *s, double w[2])
+static void parse_window(const app *a, const char *s, double w[2])
 {
     const char *colon = strchr(s, ':');
-    if (!colon) {
-        fprintf(stderr, "compareExperiment: -window: '%s' is not t0:t1\n", s);
-        usage(2);
-    }
-    char *a = sl_strdup(s);
-    a[colon - s] = '\0';
-    w[0] = *a ? parse_number(a, "-window") : -(double)INFINITY;
-    w[1] = colon[1] ? parse_number(colon + 1, "-window") : (double)INFINITY;
-    free(a);
-    if (!(w[1] > w[0])) {
-        fprintf(stderr, "compareExperiment: -window: '%s' needs t1 > t0\n", s);
-        usage(2);
-    }
+    if (!colon) app_error(a, "-window: '%s' is not t0:t1", s);
+    char *t0 = sl_strdup(s);
+    t0[colon - s] = '\0';
+    w[0] = *t0 ? window_end(a, t0, s) : -(double)INFINITY;
+    w[1] = colon[1] ? window_end(a, colon + 1, s) : (double)INFINITY;
+    free(t0);
+    if (!(w[1] > w[0])) app_error(a, "-window: '%s' needs t1 > t0", s);
 }
 
 static void parse_options(options *o, int argc, char **argv)
 {
+    app a;
     memset(o, 0, sizeof *o);
-    o->case_dir = ".";
-    o->plot = 1;
-    o->filter = -1.0;
-    o->data = sl_calloc((size_t)argc, sizeof *o->data, "options");
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        int more = i + 1 < argc;
-        if (!strcmp(a, "-case") && more) o->case_dir = argv[++i];
-        else if (!strcmp(a, "-data") && more) o->data[o->ndata++] = argv[++i];
-        else if (!strcmp(a, "-dict") && more) o->dict = argv[++i];
-        else if (!strcmp(a, "-window") && more) {
-            parse_window(argv[++i], o->window);
-            o->have_window = 1;
-        } else if (!strcmp(a, "-filter") && more) {
-            o->filter = parse_number(argv[++i], "-filter");
-            if (o->filter < 0) {
-                fprintf(stderr, "compareExperiment: -filter must be >= 0 s\n");
-                usage(2);
-            }
-        } else if (!strcmp(a, "-noPlot")) o->plot = 0;
-        else if (!strcmp(a, "-help") || !strcmp(a, "--help")) usage(0);
-        else {
-            fprintf(stderr, "compareExperiment: unknown or incomplete option '%s'\n", a);
-            usage(2);
-        }
+    app_parse(&a, &info, argc, argv);
+    o->case_dir = app_case(&a);
+    o->dict = app_string(&a, "dict", NULL);
+    o->plot = !app_found(&a, "noPlot");
+    o->filter = app_double(&a, "filter", -1.0);
+    o->ndata = app_count(&a, "data");
+    o->data = sl_calloc(o->ndata + 1, sizeof *o->data, "options");
+    for (size_t i = 0; i < o->ndata; i++) o->data[i] = app_value_at(&a, "data", i);
+    if (app_found(&a, "window")) {
+        parse_window(&a, app_string(&a, "window", NULL), o->window);
+        o->have_window = 1;
     }
-    if (o->ndata == 0) {
-        fprintf(stderr, "compareExperiment: give the experimental data with -data <csv>\n");
-        usage(2);
-    }
+    if (o->ndata == 0) app_error(&a, "give the experimental data with -data <csv>");
+    app_free(&a);
 }
 
 static void make_dir(const char *path)

@@ -13,7 +13,9 @@
  * over time.  A missing gnuplot is a warning (the .gp file stays, to run
  * later with `gnuplot densityError.gp` in that folder).
  */
+#include "app/app.h"
 #include "case/case.h"
+#include "casefiles/casefiles.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 #include "functionObjects/fo.h"
@@ -23,21 +25,19 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-static void usage(int status)
-{
-    fprintf(status ? stderr : stdout,
-            "Usage: densityError [-case <dir>] [-time <times> | -latestTime] [-noPlot]\n"
-            "  Density error (percent of rho0) of the written times of a case, into\n"
-            "  postProcessing/densityError/<firstTime>/densityError.dat and a gnuplot\n"
-            "  plot densityError.png next to it.\n"
-            "  -time <times>  times and ranges, e.g. 0.5  0.5:1  :0.2  0.8:  0,0.5:1\n"
-            "  -latestTime    only the latest time\n"
-            "  -noPlot        write the data (and densityError.gp), do not run gnuplot\n");
-    exit(status);
-}
+static const app_option options[] = {
+    APP_CASE,
+    APP_TIMES,
+    {.name = "noPlot", .help = "write the data (and densityError.gp), do not run gnuplot"},
+    APP_END};
+
+static const app_info info = {
+    .name = "densityError",
+    .what = "Density error (percent of rho0) of the written times of a case, into\n"
+            "postProcessing/densityError/<firstTime>/densityError.dat and a gnuplot\n"
+            "plot densityError.png next to it.",
+    .options = options};
 
 /* The gnuplot script, run in the folder of the data. */
 static const char plot_script[] =
@@ -74,51 +74,19 @@ static int write_script(const char *dir)
 /* Run gnuplot on the script in dir; problems are warnings. */
 static void run_gnuplot(const char *dir)
 {
-    fflush(NULL);
-    pid_t pid = fork();
-    if (pid < 0) {
-        sl_warning("cannot start gnuplot: %s", strerror(errno));
-        return;
-    }
-    if (pid == 0) {
-        if (chdir(dir) != 0) _exit(126);
-        execlp("gnuplot", "gnuplot", "densityError.gp", (char *)NULL);
-        _exit(127);
-    }
-    int status;
-    while (waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR) {
-            sl_warning("lost gnuplot: %s", strerror(errno));
-            return;
-        }
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
-        sl_warning("gnuplot not found: no plot (install gnuplot, e.g. Debian's gnuplot-nox); "
-                   "run 'gnuplot densityError.gp' in %s later", dir);
-    else if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        sl_warning("gnuplot failed on %s/densityError.gp: no plot", dir);
+    sl_err err;
+    if (cf_plot_script(dir, "densityError.gp", &err))
+        sl_warning("%s: no plot; run 'gnuplot densityError.gp' in %s later", err.msg, dir);
     else
         sl_info("Plot: %s/densityError.png", dir);
 }
 
 int main(int argc, char **argv)
 {
-    const char *dir = ".", *spec = NULL;
-    int latest = 0, plot = 1;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "-case") && i + 1 < argc) dir = argv[++i];
-        else if (!strcmp(argv[i], "-time") && i + 1 < argc) spec = argv[++i];
-        else if (!strcmp(argv[i], "-latestTime")) latest = 1;
-        else if (!strcmp(argv[i], "-noPlot")) plot = 0;
-        else if (!strcmp(argv[i], "-help") || !strcmp(argv[i], "--help")) usage(0);
-        else {
-            fprintf(stderr, "densityError: unknown or incomplete option '%s'\n", argv[i]);
-            usage(2);
-        }
-    }
-    if (spec && latest) {
-        fprintf(stderr, "densityError: give -time or -latestTime, not both\n");
-        usage(2);
-    }
+    app a;
+    app_parse(&a, &info, argc, argv);
+    const char *dir = app_case(&a), *spec = app_string(&a, "time", NULL);
+    int latest = app_found(&a, "latestTime"), plot = !app_found(&a, "noPlot");
     sl_case c;
     tdir_list times;
     sl_err err;
@@ -144,5 +112,6 @@ int main(int argc, char **argv)
     free(dat);
     tdir_list_free(&times);
     case_free(&c);
+    app_free(&a);
     return 0;
 }

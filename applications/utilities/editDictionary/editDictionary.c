@@ -6,6 +6,7 @@
  *
  *   editDictionary [-entry a/b [-value | -set v | -remove]] [-keywords] [-expand] <file>
  */
+#include "app/app.h"
 #include "core/sl_log.h"
 #include "dictedit/dictedit.h"
 #include "dictionary/dict.h"
@@ -19,70 +20,54 @@ typedef struct options {
     int value, remove, keywords, expand;
 } options;
 
-static void usage(int status)
-{
-    fprintf(status ? stderr : stdout,
-            "Usage: editDictionary [options] <file>\n"
-            "  Prints or edits a dictionary file (OpenFOAM syntax) in place.\n"
-            "  <file> alone     print the file as written, after checking that it reads\n"
-            "  -expand          print it with #include and $var resolved (OpenFOAM layout)\n"
-            "  -entry <a/b>     select the entry 'b' of sub-dictionary 'a': print it as written\n"
-            "                   (with -expand: resolved)\n"
-            "  -value           with -entry: print only its value, as the solver reads it\n"
-            "  -set <value>     with -entry: set its value in place (OpenFOAM syntax, e.g. 0.5,\n"
-            "                   '(0 0 -9.81)', '{ a 1; }'); a missing entry is added at the end\n"
-            "                   of its dictionary, which must exist.  An entry written in an\n"
-            "                   #include'd file is changed in that file.\n"
-            "  -remove          with -entry: remove it (its whole line when alone on it)\n"
-            "  -keywords        list the keywords of the dictionary, or of -entry\n"
-            "  -help            print this help\n"
-            "  Edits go through a temp file and a rename and are checked by reading the\n"
-            "  result; errors name the file and line and exit with status 1.\n");
-    exit(status);
-}
+static const app_option table[] = {
+    {.name = "expand", .help = "print it with #include and $var resolved (OpenFOAM layout)"},
+    {.name = "entry",
+     .kind = APP_STRING,
+     .arg = "<a/b>",
+     .help = "select the entry 'b' of sub-dictionary 'a': print it as written\n"
+             "(with -expand: resolved)"},
+    {.name = "value", .help = "with -entry: print only its value, as the solver reads it"},
+    {.name = "set",
+     .kind = APP_STRING,
+     .arg = "<value>",
+     .help = "with -entry: set its value in place (OpenFOAM syntax, e.g. 0.5,\n"
+             "'(0 0 -9.81)', '{ a 1; }'); a missing entry is added at the end\n"
+             "of its dictionary, which must exist.  An entry written in an\n"
+             "#include'd file is changed in that file."},
+    {.name = "remove", .help = "with -entry: remove it (its whole line when alone on it)"},
+    {.name = "keywords", .help = "list the keywords of the dictionary, or of -entry"},
+    APP_END};
 
-static const char *next_arg(int argc, char **argv, int *i)
-{
-    if (*i + 1 >= argc) {
-        fprintf(stderr, "editDictionary: option '%s' needs an argument\n", argv[*i]);
-        usage(2);
-    }
-    return argv[++*i];
-}
+static const app_info info = {
+    .name = "editDictionary",
+    .what = "Prints or edits a dictionary file (OpenFOAM syntax) in place; <file> alone\n"
+            "prints the file as written, after checking that it reads.  Edits go\n"
+            "through a temp file and a rename and are checked by reading the result;\n"
+            "errors name the file and line and exit with status 1.",
+    .options = table,
+    .args = "<file>",
+    .min_args = 1,
+    .max_args = 1,
+    .args_kind = APP_PATH};
 
 static options parse_args(int argc, char **argv)
 {
+    app a;
     options o = {0};
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "-entry")) o.entry = next_arg(argc, argv, &i);
-        else if (!strcmp(a, "-set")) o.set = next_arg(argc, argv, &i);
-        else if (!strcmp(a, "-value")) o.value = 1;
-        else if (!strcmp(a, "-remove")) o.remove = 1;
-        else if (!strcmp(a, "-keywords")) o.keywords = 1;
-        else if (!strcmp(a, "-expand")) o.expand = 1;
-        else if (!strcmp(a, "-help") || !strcmp(a, "--help")) usage(0);
-        else if (a[0] == '-' && a[1]) {
-            fprintf(stderr, "editDictionary: unknown option '%s'\n", a);
-            usage(2);
-        } else if (!o.file) o.file = a;
-        else {
-            fprintf(stderr, "editDictionary: more than one file ('%s', '%s')\n", o.file, a);
-            usage(2);
-        }
-    }
-    if (!o.file) {
-        fprintf(stderr, "editDictionary: no file given\n");
-        usage(2);
-    }
-    if ((o.value || o.set || o.remove) && !o.entry) {
-        fprintf(stderr, "editDictionary: -value, -set and -remove need -entry\n");
-        usage(2);
-    }
-    if ((o.value != 0) + (o.set != NULL) + (o.remove != 0) + (o.keywords != 0) > 1) {
-        fprintf(stderr, "editDictionary: use one of -value, -set, -remove, -keywords\n");
-        usage(2);
-    }
+    app_parse(&a, &info, argc, argv);
+    o.file = a.args[0];
+    o.entry = app_string(&a, "entry", NULL);
+    o.set = app_string(&a, "set", NULL);
+    o.value = app_found(&a, "value");
+    o.remove = app_found(&a, "remove");
+    o.keywords = app_found(&a, "keywords");
+    o.expand = app_found(&a, "expand");
+    if ((o.value || o.set || o.remove) && !o.entry)
+        app_error(&a, "-value, -set and -remove need -entry");
+    if ((o.value != 0) + (o.set != NULL) + (o.remove != 0) + (o.keywords != 0) > 1)
+        app_error(&a, "use one of -value, -set, -remove, -keywords");
+    app_free(&a);
     return o;
 }
 

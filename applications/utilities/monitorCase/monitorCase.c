@@ -10,6 +10,7 @@
  *   monitorCase [-case <dir>] [-columns a,b] [-png file] [-refresh s] [-idle s] [-once]
  *               [-print] [<file>]
  */
+#include "app/app.h"
 #include "casefiles/casefiles.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
@@ -34,58 +35,60 @@ typedef struct options {
 static const char *const default_panels[] = {"rhoErrAvg,rhoErrMax", "iterations", "deltaT",
                                              "vMax"};
 
-static void usage(int status)
-{
-    fprintf(status ? stderr : stdout,
-            "Usage: monitorCase [options] [<file>]\n"
-            "  Plots the per-step record of a case (postProcessing/timeStep/<startTime>/\n"
-            "  timeStep.dat of the first run and of every restart, joined in time order)\n"
-            "  or any OpenFOAM function-object <file> against its first\n"
-            "  column with gnuplot, redrawing until interrupted (Ctrl-C).  By default\n"
-            "  four panels: density error (rhoErrAvg, rhoErrMax), iterations, deltaT, vMax.\n"
-            "  -case <dir>       the case (default: the current directory)\n"
-            "  -columns <a,b>    plot these columns (names or 1-based numbers) in one panel\n"
-            "  -png <file>       draw into a PNG instead of the terminal\n"
-            "  -refresh <s>      seconds between redraws (default 5)\n"
-            "  -idle <s>         stop when the file has not changed for this long\n"
-            "  -once             draw once and exit\n"
-            "  -logscale         logarithmic y axes\n"
-            "  -print            print the (joined) record as a table and exit\n"
-            "  -help             print this help\n");
-    exit(status);
-}
+static const app_option table[] = {
+    APP_CASE,
+    {.name = "columns",
+     .kind = APP_STRING,
+     .arg = "<a,b>",
+     .help = "plot these columns (names or 1-based numbers) in one panel"},
+    {.name = "png", .kind = APP_PATH, .help = "draw into a PNG instead of the terminal", .glob = "*.png"},
+    {.name = "refresh",
+     .kind = APP_DOUBLE,
+     .arg = "<s>",
+     .help = "seconds between redraws",
+     .def = "5",
+     .min = 0,
+     .max = INFINITY,
+     .above_min = 1},
+    {.name = "idle",
+     .kind = APP_DOUBLE,
+     .arg = "<s>",
+     .help = "stop when the file has not changed for this long",
+     .min = 0,
+     .max = INFINITY,
+     .above_min = 1},
+    {.name = "once", .help = "draw once and exit"},
+    {.name = "logscale", .help = "logarithmic y axes"},
+    {.name = "print", .help = "print the (joined) record as a table and exit"},
+    APP_END};
 
-static double seconds(const char *opt, const char *s)
-{
-    char *end;
-    double v = strtod(s, &end);
-    if (*end || !(v > 0)) {
-        fprintf(stderr, "monitorCase: %s needs a positive number of seconds, not '%s'\n", opt, s);
-        usage(2);
-    }
-    return v;
-}
+static const app_info info = {
+    .name = "monitorCase",
+    .what = "Plots the per-step record of a case (postProcessing/timeStep/<startTime>/\n"
+            "timeStep.dat of the first run and of every restart, joined in time order)\n"
+            "or any OpenFOAM function-object <file> against its first\n"
+            "column with gnuplot, redrawing until interrupted (Ctrl-C).  By default\n"
+            "four panels: density error (rhoErrAvg, rhoErrMax), iterations, deltaT, vMax.",
+    .options = table,
+    .args = "[<file>]",
+    .max_args = 1,
+    .args_kind = APP_PATH};
 
 static options parse_args(int argc, char **argv)
 {
-    options o = {.dir = ".", .refresh = 5};
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "-case") && i + 1 < argc) o.dir = argv[++i];
-        else if (!strcmp(a, "-columns") && i + 1 < argc) o.columns = argv[++i];
-        else if (!strcmp(a, "-png") && i + 1 < argc) o.png = argv[++i];
-        else if (!strcmp(a, "-refresh") && i + 1 < argc) o.refresh = seconds(a, argv[++i]);
-        else if (!strcmp(a, "-idle") && i + 1 < argc) o.idle = seconds(a, argv[++i]);
-        else if (!strcmp(a, "-once")) o.once = 1;
-        else if (!strcmp(a, "-logscale")) o.logy = 1;
-        else if (!strcmp(a, "-print")) o.print = 1;
-        else if (!strcmp(a, "-help") || !strcmp(a, "--help")) usage(0);
-        else if (a[0] != '-' && !o.file) o.file = a;
-        else {
-            fprintf(stderr, "monitorCase: unknown or incomplete option '%s'\n", a);
-            usage(2);
-        }
-    }
+    app a;
+    options o = {0};
+    app_parse(&a, &info, argc, argv);
+    o.dir = app_case(&a);
+    o.file = a.nargs ? a.args[0] : NULL;
+    o.columns = app_string(&a, "columns", NULL);
+    o.png = app_string(&a, "png", NULL);
+    o.refresh = app_double(&a, "refresh", 5);
+    o.idle = app_double(&a, "idle", 0);
+    o.once = app_found(&a, "once");
+    o.logy = app_found(&a, "logscale");
+    o.print = app_found(&a, "print");
+    app_free(&a);
     return o;
 }
 

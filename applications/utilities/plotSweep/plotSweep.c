@@ -7,7 +7,7 @@
  * the plot, printed, and written as <picture>_pareto.csv (the input's header
  * and the front's rows, as they are in the input, sorted by x).
  *
- *   plotSweep [-o file.png] [-by <column>] [-where <column>=<value>]...
+ *   plotSweep [-output file.png] [-by <column>] [-where <column>=<value>]...
  *             [-pareto] [-logx] [-logy] [-dumb] <results.csv> <x> <y>
  *
  * Rows without finite numbers in x and y (nan, inf, empty, '-') are left
@@ -15,6 +15,7 @@
  * written, and the files are written to temporary names and renamed, so an
  * error leaves no partial output.
  */
+#include "app/app.h"
 #include "casefiles/casefiles.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
@@ -53,68 +54,77 @@ typedef struct plotted {
     size_t npts, nfront;
 } plotted;
 
-static void usage(int status)
-{
-    fprintf(status ? stderr : stdout,
-            "Usage: plotSweep [options] <results.csv> <x column> <y column>\n"
-            "  Plots one column of a sweepCase table against another with gnuplot,\n"
-            "  each point labelled with its case; e.g.\n"
-            "    plotSweep -pareto -where mode=adaptive results.csv wallTime maxRhoErrAvg\n"
-            "  Rows without finite numbers in both columns (nan, inf, empty, '-') are\n"
-            "  left out, and counted on stderr.\n"
-            "  -o <file.png>    the picture (default: <y>_vs_<x>.png beside the table,\n"
-            "                   with _<column>_<value> for each -where)\n"
-            "  -by <column>     one series per value of this column (e.g. a parameter)\n"
-            "  -where <c>=<v>   only the rows whose column c is the string v; repeat\n"
-            "                   to combine (all must hold)\n"
-            "  -pareto          mark the Pareto front, less being better on both axes:\n"
-            "                   the rows no other row beats on one axis without losing\n"
-            "                   on the other (over all series).  Prints it (case, x, y)\n"
-            "                   and writes it as <picture name>_pareto.csv: the table's\n"
-            "                   header and the front's rows, sorted by x\n"
-            "  -logx, -logy     logarithmic axes\n"
-            "  -dumb            draw in the terminal instead of a PNG\n"
-            "  -help            print this help\n");
-    exit(status);
-}
+static const app_option table_options[] = {
+    {.name = "output",
+     .kind = APP_PATH,
+     .arg = "<file.png>",
+     .help = "the picture",
+     .def = "<y>_vs_<x>.png beside the table,\nwith _<column>_<value> for each -where",
+     .aliases = "o",
+     .glob = "*.png"},
+    {.name = "by",
+     .kind = APP_STRING,
+     .arg = "<column>",
+     .help = "one series per value of this column (e.g. a parameter)"},
+    {.name = "where",
+     .kind = APP_STRING,
+     .arg = "<c>=<v>",
+     .help = "only the rows whose column c is the string v; repeat\n"
+             "to combine (all must hold)",
+     .repeat = 1},
+    {.name = "pareto",
+     .help = "mark the Pareto front, less being better on both axes:\n"
+             "the rows no other row beats on one axis without losing\n"
+             "on the other (over all series).  Prints it (case, x, y)\n"
+             "and writes it as <picture name>_pareto.csv: the table's\n"
+             "header and the front's rows, sorted by x"},
+    {.name = "logx", .help = "logarithmic x axis"},
+    {.name = "logy", .help = "logarithmic y axis"},
+    {.name = "dumb", .help = "draw in the terminal instead of a PNG"},
+    APP_END};
+
+static const app_info info = {
+    .name = "plotSweep",
+    .what = "Plots one column of a sweepCase table against another with gnuplot,\n"
+            "each point labelled with its case; e.g.\n"
+            "  plotSweep -pareto -where mode=adaptive results.csv wallTime maxRhoErrAvg\n"
+            "Rows without finite numbers in both columns (nan, inf, empty, '-') are\n"
+            "left out, and counted on stderr.",
+    .options = table_options,
+    .args = "<results.csv> <x column> <y column>",
+    .min_args = 3,
+    .max_args = 3,
+    .args_kind = APP_PATH};
 
 /* A -where argument must be <column>=<value> (the value may be empty). */
-static void check_where(const char *w)
+static void check_where(const app *a, const char *w)
 {
     const char *eq = strchr(w, '=');
     if (eq && eq != w) return;
-    fprintf(stderr,
-            "plotSweep: bad -where '%s': expected <column>=<value>, e.g. -where mode=adaptive\n",
-            w);
-    exit(2);
+    app_error(a, "bad -where '%s': expected <column>=<value>, e.g. -where mode=adaptive", w);
 }
 
 static options parse_args(int argc, char **argv)
 {
+    app a;
     options o = {0};
-    const char **pos[] = {&o.csv, &o.x, &o.y};
-    int npos = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "-o") && i + 1 < argc) o.out = argv[++i];
-        else if (!strcmp(a, "-by") && i + 1 < argc) o.by = argv[++i];
-        else if (!strcmp(a, "-where") && i + 1 < argc) {
-            check_where(argv[++i]);
-            o.where = sl_realloc(o.where, (o.nwhere + 1) * sizeof *o.where, "-where");
-            o.where[o.nwhere++] = argv[i];
-        }
-        else if (!strcmp(a, "-pareto")) o.pareto = 1;
-        else if (!strcmp(a, "-logx")) o.logx = 1;
-        else if (!strcmp(a, "-logy")) o.logy = 1;
-        else if (!strcmp(a, "-dumb")) o.dumb = 1;
-        else if (!strcmp(a, "-help") || !strcmp(a, "--help")) usage(0);
-        else if (a[0] != '-' && npos < 3) *pos[npos++] = a;
-        else {
-            fprintf(stderr, "plotSweep: unknown or incomplete option '%s'\n", a);
-            usage(2);
-        }
+    app_parse(&a, &info, argc, argv);
+    o.csv = a.args[0];
+    o.x = a.args[1];
+    o.y = a.args[2];
+    o.out = app_string(&a, "output", NULL);
+    o.by = app_string(&a, "by", NULL);
+    o.nwhere = app_count(&a, "where");
+    o.where = sl_malloc((o.nwhere + 1) * sizeof *o.where, "-where");
+    for (size_t i = 0; i < o.nwhere; i++) {
+        o.where[i] = app_value_at(&a, "where", i);
+        check_where(&a, o.where[i]);
     }
-    if (npos < 3) usage(2);
+    o.pareto = app_found(&a, "pareto");
+    o.logx = app_found(&a, "logx");
+    o.logy = app_found(&a, "logy");
+    o.dumb = app_found(&a, "dumb");
+    app_free(&a);
     return o;
 }
 

@@ -12,6 +12,7 @@
  * postProcessing/<name>/<firstTime>/<type>.dat, one row per time, exactly as
  * during a run (every processed time counts as a write time).
  */
+#include "app/app.h"
 #include "case/case.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
@@ -22,40 +23,33 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void usage(int status)
-{
-    fprintf(status ? stderr : stdout,
-            "Usage: postProcess [-case <dir>] [-func <name>]... [-time <times> | -latestTime]\n"
-            "  Runs function objects on the written time directories of a case.\n"
-            "  -func <name>   an entry of 'functions' in system/controlDict, or a type run\n"
-            "                 with its defaults (densityError, probes, waterGauges, energy);\n"
-            "                 default: every entry of 'functions'\n"
-            "  -time <times>  times and ranges, e.g. 0.5  0.5:1  :0.2  0.8:  0,0.5:1\n"
-            "  -latestTime    only the latest time\n");
-    exit(status);
-}
+static const app_option options[] = {
+    APP_CASE,
+    {.name = "func",
+     .kind = APP_STRING,
+     .arg = "<name>",
+     .help = "an entry of 'functions' in system/controlDict, or a type run\n"
+     "with its defaults (densityError, probes, waterGauges, energy);\n"
+     "repeat for several",
+     .def = "every entry of 'functions'",
+     .repeat = 1},
+    APP_TIMES,
+    APP_END};
+
+static const app_info info = {
+    .name = "postProcess",
+    .what = "Runs function objects on the written time directories of a case.",
+    .options = options};
 
 int main(int argc, char **argv)
 {
-    const char *dir = ".", *spec = NULL;
-    const char **funcs = sl_malloc((size_t)argc * sizeof *funcs, "arguments");
-    size_t nfuncs = 0;
-    int latest = 0;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "-case") && i + 1 < argc) dir = argv[++i];
-        else if (!strcmp(argv[i], "-func") && i + 1 < argc) funcs[nfuncs++] = argv[++i];
-        else if (!strcmp(argv[i], "-time") && i + 1 < argc) spec = argv[++i];
-        else if (!strcmp(argv[i], "-latestTime")) latest = 1;
-        else if (!strcmp(argv[i], "-help") || !strcmp(argv[i], "--help")) usage(0);
-        else {
-            fprintf(stderr, "postProcess: unknown or incomplete option '%s'\n", argv[i]);
-            usage(2);
-        }
-    }
-    if (spec && latest) {
-        fprintf(stderr, "postProcess: give -time or -latestTime, not both\n");
-        usage(2);
-    }
+    app a;
+    app_parse(&a, &info, argc, argv);
+    const char *dir = app_case(&a), *spec = app_string(&a, "time", NULL);
+    size_t nfuncs = app_count(&a, "func");
+    const char **funcs = sl_malloc((nfuncs + 1) * sizeof *funcs, "arguments");
+    for (size_t i = 0; i < nfuncs; i++) funcs[i] = app_value_at(&a, "func", i);
+    int latest = app_found(&a, "latestTime");
     sl_case c;
     tdir_list times;
     sl_err err;
@@ -77,5 +71,6 @@ int main(int argc, char **argv)
     tdir_list_free(&times);
     case_free(&c);
     free(funcs);
+    app_free(&a);
     return 0;
 }

@@ -8,6 +8,7 @@
  * Writes <case>/constant/sampled/boundary.vtu (normals, body index) and
  * <case>/constant/sampled/fluid.vtu.
  */
+#include "app/app.h"
 #include "case/case.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
@@ -19,15 +20,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void usage(int status)
-{
-    fprintf(status ? stderr : stdout,
-            "Usage: sampleBoundary [-case <dir>]\n"
-            "  Samples the case's geometry and fluid regions and writes them to\n"
-            "  <dir>/constant/sampled/{boundary,fluid}.vtu; prints the spacing of\n"
-            "  each boundary body's particles.\n");
-    exit(status);
-}
+static const app_option options[] = {APP_CASE, APP_END};
+
+static const app_info info = {
+    .name = "sampleBoundary",
+    .what = "Samples the case's geometry and fluid regions and writes them to\n"
+            "<dir>/constant/sampled/{boundary,fluid}.vtu; prints the spacing of\n"
+            "each boundary body's particles.",
+    .options = options};
 
 /* Spacing quality of body k's particles. */
 static void report_body(const sl_case *c, uint32_t k)
@@ -53,12 +53,9 @@ static void report_body(const sl_case *c, uint32_t k)
 
 int main(int argc, char **argv)
 {
-    const char *dir = ".";
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "-case") && i + 1 < argc) dir = argv[++i];
-        else if (!strcmp(argv[i], "-help") || !strcmp(argv[i], "--help")) usage(0);
-        else { fprintf(stderr, "sampleBoundary: unknown option '%s'\n", argv[i]); usage(2); }
-    }
+    app a;
+    app_parse(&a, &info, argc, argv);
+    const char *dir = app_case(&a);
     sl_case c;
     sl_err err;
     case_read(&c, dir);
@@ -87,5 +84,6 @@ int main(int argc, char **argv)
     free(out);
     free(path);
     case_free(&c);
+    app_free(&a);
     return 0;
 }

@@ -25,9 +25,11 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "app/app.h"
 #include "casefiles/casefiles.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
+#include "core/sl_proc.h"
 #include "io/time_dir.h"
 
 static volatile sig_atomic_t interrupted;
@@ -38,137 +40,150 @@ static void on_signal(int sig)
     interrupted = 1;
 }
 
-static void usage(int status)
-{
-    fprintf(status ? stderr : stdout,
-            "Usage: stableTimeStep -case <dir> [options]\n"
-            "  For each boundary method, the largest constant deltaT that keeps the maximum over\n"
-            "  steps of the average volume compression (postProcessing/timeStep) below the\n"
-            "  bound, with the solver exiting 0 and no particle outside the tank at the end\n"
-            "  (Ihmsen et al. 2010, Sec. 4.1).  Bisection on log deltaT; every trial is a clone\n"
-            "  of system/ and constant/ in <dir>/postProcessing/stableTimeStep/trials/\n"
-            "  <method>_<deltaT>/, stopped as soon as a step is above the bound.  Then one run\n"
-            "  per method at a common deltaT in .../stableTimeStep/common/<method>/.\n"
-            "  Tables: stableTimeStep.md, stableTimeStep.csv and trials.csv there.\n"
-            "  -method m1,m2,...   methods (default ihmsen2010,becker2009,harada2007)\n"
-            "  -endTime T          simulated time of every run, s (default: the case's)\n"
-            "  -bound B            bound on the measure, percent of rho0 (default 1)\n"
-            "  -measure M          volErrAvg (default): compression with the wall's density from\n"
-            "                      the boundary particles, alike for every method; rhoErrAvg:\n"
-            "                      with each method's own density (becker2009's has no wall)\n"
-            "  -dtMin a -dtMax b   deltaT range searched, s (default 1e-4 and 1e-2)\n"
-            "  -tolerance x        stop when (unstable / stable deltaT) <= 1 + x; '5%%' or\n"
-            "                      0.05 (default 5%%)\n"
-            "  -jobs N             trials run at a time (default: the number of cores)\n"
-            "  -threads T          OpenMP threads per trial (default: OMP_NUM_THREADS, else\n"
-            "                      cores / jobs)\n"
-            "  -commonDeltaT dt    deltaT of the runs for the pictures (default: the smallest\n"
-            "                      stable deltaT found); 'none': no such runs\n"
-            "  -help               print this help\n");
-    exit(status);
-}
+static const app_option table[] = {
+    APP_CASE,
+    {.name = "method",
+     .kind = APP_STRING,
+     .arg = "<m1,m2,...>",
+     .help = "boundary methods",
+     .def = "ihmsen2010,becker2009,harada2007"},
+    {.name = "endTime",
+     .kind = APP_DOUBLE,
+     .arg = "<T>",
+     .help = "simulated time of every run, s",
+     .def = "the case's",
+     .min = 0,
+     .max = INFINITY,
+     .above_min = 1},
+    {.name = "bound",
+     .kind = APP_STRING,
+     .arg = "<B>",
+     .help = "bound on the measure, percent of rho0 ('1' or '1%')",
+     .def = "1"},
+    {.name = "measure",
+     .kind = APP_STRING,
+     .arg = "<M>",
+     .help = "volErrAvg (default): compression with the wall's density from\n"
+             "the boundary particles, alike for every method; rhoErrAvg:\n"
+             "with each method's own density (becker2009's has no wall)"},
+    {.name = "dtMin",
+     .kind = APP_DOUBLE,
+     .arg = "<a>",
+     .help = "smallest deltaT searched, s",
+     .def = "1e-4",
+     .min = 0,
+     .max = INFINITY,
+     .above_min = 1},
+    {.name = "dtMax",
+     .kind = APP_DOUBLE,
+     .arg = "<b>",
+     .help = "largest deltaT searched, s",
+     .def = "1e-2",
+     .min = 0,
+     .max = INFINITY,
+     .above_min = 1},
+    {.name = "tolerance",
+     .kind = APP_STRING,
+     .arg = "<x>",
+     .help = "stop when (unstable / stable deltaT) <= 1 + x; '5%' or 0.05",
+     .def = "5%"},
+    {.name = "jobs",
+     .kind = APP_INT,
+     .help = "trials run at a time",
+     .def = "the number of cores",
+     .min = 1,
+     .max = 4096},
+    {.name = "threads",
+     .kind = APP_INT,
+     .arg = "<T>",
+     .help = "OpenMP threads per trial",
+     .def = "OMP_NUM_THREADS, else cores / jobs",
+     .min = 1,
+     .max = 4096},
+    {.name = "commonDeltaT",
+     .kind = APP_STRING,
+     .arg = "<dt>",
+     .help = "deltaT of the runs for the pictures; 'none': no such runs",
+     .def = "the smallest stable deltaT found"},
+    APP_END};
 
-static double number_arg(const char *opt, const char *s, int percent_ok)
+static const app_info info = {
+    .name = "stableTimeStep",
+    .what = "For each boundary method, the largest constant deltaT that keeps the maximum over\n"
+            "steps of the average volume compression (postProcessing/timeStep) below the\n"
+            "bound, with the solver exiting 0 and no particle outside the tank at the end\n"
+            "(Ihmsen et al. 2010, Sec. 4.1).  Bisection on log deltaT; every trial is a clone\n"
+            "of system/ and constant/ in <dir>/postProcessing/stableTimeStep/trials/\n"
+            "<method>_<deltaT>/, stopped as soon as a step is above the bound.  Then one run\n"
+            "per method at a common deltaT in .../stableTimeStep/common/<method>/.\n"
+            "Tables: stableTimeStep.md, stableTimeStep.csv and trials.csv there.",
+    .options = table};
+
+/* A positive number, or with percent_ok also "<x>%" (returned as x / 100). */
+static double number_arg(const app *a, const char *opt, const char *s, int percent_ok)
 {
     char *end;
     errno = 0;
     double v = strtod(s, &end);
     int percent = percent_ok && *end == '%' && end[1] == '\0';
-    if (end == s || (*end && !percent) || errno || !isfinite(v) || !(v > 0.0)) {
-        fprintf(stderr, "stableTimeStep: %s needs a positive number, not '%s'\n", opt, s);
-        usage(2);
-    }
+    if (end == s || (*end && !percent) || errno || !isfinite(v) || !(v > 0.0))
+        app_error(a, "-%s: '%s' is not a positive number", opt, s);
     return percent ? v / 100.0 : v;
 }
 
-static int int_arg(const char *opt, const char *s)
-{
-    char *end;
-    long v = strtol(s, &end, 10);
-    if (*end || v < 1 || v > 4096) {
-        fprintf(stderr, "stableTimeStep: %s needs a positive whole number, not '%s'\n", opt, s);
-        usage(2);
-    }
-    return (int)v;
-}
-
 /* "a,b,c" -> list of words */
-static void split_methods(sts_options *o, const char *list)
+static void split_methods(const app *a, sts_options *o, const char *list)
 {
     char *copy = sl_strdup(list), *save = NULL;
     for (char *w = strtok_r(copy, ",", &save); w; w = strtok_r(NULL, ",", &save)) {
-        if (strlen(w) >= sizeof ((sts_search *)0)->method) {
-            fprintf(stderr, "stableTimeStep: method name '%s' is too long\n", w);
-            usage(2);
-        }
+        if (strlen(w) >= sizeof ((sts_search *)0)->method)
+            app_error(a, "-method: method name '%s' is too long", w);
         o->methods = sl_realloc(o->methods, (o->nmethods + 1) * sizeof *o->methods, "methods");
         o->methods[o->nmethods++] = sl_strdup(w);
     }
     free(copy);
-    if (!o->nmethods) usage(2);
+    if (!o->nmethods) app_error(a, "-method: no method in '%s'", list);
+}
+
+/* -bound, -measure, -tolerance, -commonDeltaT: words the table leaves to us. */
+static void parse_words(const app *a, sts_options *o)
+{
+    const char *v;
+    if ((v = app_string(a, "bound", NULL))) /* percent, with or without the sign */
+        o->bound = number_arg(a, "bound", v, 1) * (strchr(v, '%') ? 100.0 : 1.0);
+    if ((v = app_string(a, "measure", NULL))) {
+        if (!strcmp(v, "volErrAvg")) o->measure = STS_VOL_ERR_AVG;
+        else if (!strcmp(v, "rhoErrAvg")) o->measure = STS_RHO_ERR_AVG;
+        else app_error(a, "-measure %s: give volErrAvg or rhoErrAvg", v);
+    }
+    if ((v = app_string(a, "tolerance", NULL))) {
+        o->tolerance = number_arg(a, "tolerance", v, 1);
+        if (o->tolerance >= 1.0 && !strchr(v, '%'))
+            app_error(a, "-tolerance %s: give a fraction (0.05) or a percentage (5%%)", v);
+    }
+    if ((v = app_string(a, "commonDeltaT", NULL)))
+        o->common_dt = !strcmp(v, "none") ? -1.0 : number_arg(a, "commonDeltaT", v, 0);
 }
 
 static sts_options parse_args(int argc, char **argv)
 {
+    app a;
     sts_options o = {0};
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    app_parse(&a, &info, argc, argv);
+    o.case_dir = app_case(&a);
     o.bound = 1.0;
-    o.dt_min = 1e-4;
-    o.dt_max = 1e-2;
     o.tolerance = 0.05;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(a, "-help") || !strcmp(a, "--help")) usage(0);
-        if (!v) {
-            fprintf(stderr, "stableTimeStep: unknown option or missing value: '%s'\n", a);
-            usage(2);
-        }
-        i++;
-        if (!strcmp(a, "-case")) o.case_dir = v;
-        else if (!strcmp(a, "-method")) split_methods(&o, v);
-        else if (!strcmp(a, "-endTime")) o.end_time = number_arg(a, v, 0);
-        else if (!strcmp(a, "-bound")) /* percent, with or without the sign */
-            o.bound = number_arg(a, v, 1) * (strchr(v, '%') ? 100.0 : 1.0);
-        else if (!strcmp(a, "-measure")) {
-            if (!strcmp(v, "volErrAvg")) o.measure = STS_VOL_ERR_AVG;
-            else if (!strcmp(v, "rhoErrAvg")) o.measure = STS_RHO_ERR_AVG;
-            else {
-                fprintf(stderr, "stableTimeStep: -measure %s: give volErrAvg or rhoErrAvg\n", v);
-                usage(2);
-            }
-        }
-        else if (!strcmp(a, "-dtMin")) o.dt_min = number_arg(a, v, 0);
-        else if (!strcmp(a, "-dtMax")) o.dt_max = number_arg(a, v, 0);
-        else if (!strcmp(a, "-tolerance")) {
-            o.tolerance = number_arg(a, v, 1);
-            if (o.tolerance >= 1.0 && !strchr(v, '%')) {
-                fprintf(stderr, "stableTimeStep: -tolerance %s: give a fraction (0.05) or a "
-                                "percentage (5%%)\n", v);
-                usage(2);
-            }
-        }
-        else if (!strcmp(a, "-jobs")) o.jobs = int_arg(a, v);
-        else if (!strcmp(a, "-threads")) o.threads = int_arg(a, v);
-        else if (!strcmp(a, "-commonDeltaT"))
-            o.common_dt = !strcmp(v, "none") ? -1.0 : number_arg(a, v, 0);
-        else {
-            fprintf(stderr, "stableTimeStep: unknown option '%s'\n", a);
-            usage(2);
-        }
-    }
-    if (!o.case_dir) {
-        fprintf(stderr, "stableTimeStep: -case <dir> is required\n");
-        usage(2);
-    }
-    if (!o.nmethods) split_methods(&o, "ihmsen2010,becker2009,harada2007");
-    if (!(o.dt_min < o.dt_max)) {
-        fprintf(stderr, "stableTimeStep: -dtMin %g must be below -dtMax %g\n", o.dt_min, o.dt_max);
-        usage(2);
-    }
-    if (o.tolerance < 0.002) {
-        fprintf(stderr, "stableTimeStep: -tolerance below 0.2%% is finer than deltaT is written\n");
-        usage(2);
-    }
+    o.end_time = app_double(&a, "endTime", 0);
+    o.dt_min = app_double(&a, "dtMin", 1e-4);
+    o.dt_max = app_double(&a, "dtMax", 1e-2);
+    o.jobs = (int)app_int(&a, "jobs", 0);
+    o.threads = (int)app_int(&a, "threads", 0);
+    split_methods(&a, &o, app_string(&a, "method", "ihmsen2010,becker2009,harada2007"));
+    parse_words(&a, &o);
+    if (!(o.dt_min < o.dt_max)) app_error(&a, "-dtMin %g must be below -dtMax %g", o.dt_min, o.dt_max);
+    if (o.tolerance < 0.002) app_error(&a, "-tolerance below 0.2%% is finer than deltaT is written");
+    app_free(&a);
     if (!o.jobs) o.jobs = cores > 0 ? (int)cores : 1;
     if (!o.threads) {
         const char *env = getenv("OMP_NUM_THREADS");
@@ -248,9 +263,10 @@ static void run_pool(sts_run *r, int searching)
             sts_trial *t = &r->trial[i];
             int status, ended = 0;
             if (t->status != STS_RUNNING) continue;
-            pid_t p = waitpid(t->pid, &status, WNOHANG);
-            if (p < 0 && errno != EINTR) sl_fatal("waiting for %s: %s", t->dir, strerror(errno));
-            if (p == t->pid) {
+            sl_err err;
+            int ended_now = sl_proc_wait(t->pid, &status, 1, &err);
+            if (ended_now < 0) sl_fatal("%s: %s", t->dir, err.msg);
+            if (ended_now) {
                 sts_trial_finish(r, t, status);
                 ended = 1;
             } else {

@@ -10,7 +10,6 @@
 #include "sts.h"
 
 #include <errno.h>
-#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <signal.h>
@@ -23,6 +22,7 @@
 #include "casefiles/casefiles.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
+#include "core/sl_proc.h"
 #include "dictedit/dictedit.h"
 #include "dictionary/dict.h"
 #include "geometry/geometry.h"
@@ -140,18 +140,12 @@ static void prepare(const sts_run *r, const sts_trial *t, int threads)
 void sts_trial_start(sts_run *r, sts_trial *t, int threads)
 {
     prepare(r, t, threads);
-    fflush(stdout);
-    fflush(stderr);
     clock_gettime(CLOCK_MONOTONIC, &t->start);
-    pid_t pid = fork();
-    if (pid < 0) sl_fatal("cannot start %s: %s", r->solver, strerror(errno));
-    if (pid == 0) {
-        int fd = open(t->log, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-        if (fd < 0 || dup2(fd, STDOUT_FILENO) < 0 || dup2(fd, STDERR_FILENO) < 0) _exit(126);
-        execl(r->solver, "pcisph", "-case", t->dir, "-quiet", (char *)NULL);
-        fprintf(stderr, "stableTimeStep: cannot run %s: %s\n", r->solver, strerror(errno));
-        _exit(127);
-    }
+    const char *argv[] = {r->solver, "-case", t->dir, "-quiet", NULL};
+    sl_proc p = {.argv = argv, .log = t->log};
+    sl_err err;
+    pid_t pid = sl_proc_start(&p, NULL, &err);
+    if (pid < 0) sl_fatal("%s", err.msg);
     t->pid = pid;
     t->status = STS_RUNNING;
 }
@@ -228,7 +222,7 @@ static void kill_child(sts_trial *t)
     int st;
     if (t->pid > 0) {
         kill(t->pid, SIGKILL);
-        while (waitpid(t->pid, &st, 0) < 0 && errno == EINTR) continue;
+        sl_proc_wait(t->pid, &st, 0, NULL);
     }
     t->pid = -1;
 }

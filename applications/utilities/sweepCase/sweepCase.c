@@ -5,7 +5,7 @@
  * runs the solver on the unfinished cases N at a time and collects one
  * table of parameters against results (results.csv, results.md).
  *
- *   sweepCase [-jobs N] [-threads T] [-force] [-print-jobs | -collect] <sweepDict>
+ *   sweepCase [-jobs N] [-threads T] [-force] [-printJobs | -collect] <sweepDict>
  */
 #include "sweep.h"
 
@@ -14,6 +14,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "app/app.h"
 #include "core/sl_log.h"
 
 typedef struct options {
@@ -21,76 +22,68 @@ typedef struct options {
     int jobs, threads, force, print_jobs, collect;
 } options;
 
-static void usage(int status)
-{
-    fprintf(status ? stderr : stdout,
-            "Usage: sweepCase [options] <sweepDict>\n"
-            "  Runs one case per point of a parameter sweep and tabulates the results.\n"
-            "  The cases are <sweep dir>/cases/<name> (names from the values, e.g.\n"
-            "  eta_0.5-mode_adaptive); a case whose log.<application> holds the solver's\n"
-            "  'End:' line is finished and is not run again.  The table of parameters\n"
-            "  against wallTime, steps, meanIterations, maxRhoErrAvg, maxRhoErrMax, shocks,\n"
-            "  meanRhoErrAvg, maxVolErrAvg\n"
-            "  (from postProcessing/timeStep/<startTime>/timeStep.dat) and the 'results'\n"
-            "  columns is written to <sweep dir>/results.csv and results.md.\n"
-            "  -jobs N        run N cases at a time (default: the number of cores)\n"
-            "  -threads T     OpenMP threads per case (default: cores / jobs, unless\n"
-            "                 OMP_NUM_THREADS is set)\n"
-            "  -force         clone and run every point again, finished or not\n"
-            "  -print-jobs    prepare the unfinished cases and print one shell command per\n"
-            "                 case instead of running them (for GNU parallel or a cluster)\n"
-            "  -collect       only gather the results of the existing cases\n"
-            "  -help          print this help\n"
-            "Sweep dictionary (OpenFOAM syntax, paths relative to its folder):\n"
-            "  baseCase    ../../tutorials/damBreak;\n"
-            "  combine     product;          // or zip (the i-th values together)\n"
-            "  parameters\n"
-            "  {\n"
-            "      \"constant/fluidProperties/eta\"   (0.5 1 2);   // \"<file>/<entry>\" (values)\n"
-            "      \"system/timeStepDict/mode\"       (adaptive constant);\n"
-            "  }\n"
-            "  results     (postProcessing/densityError/0/densityError.dat:rhoErrAvg);\n"
-            "              // optional: <file>:<column>, its last row\n");
-    exit(status);
-}
+static const app_option table[] = {
+    {.name = "jobs",
+     .kind = APP_INT,
+     .help = "run N cases at a time",
+     .def = "the number of cores",
+     .min = 1,
+     .max = 4096},
+    {.name = "threads",
+     .kind = APP_INT,
+     .arg = "<T>",
+     .help = "OpenMP threads per case",
+     .def = "cores / jobs, unless OMP_NUM_THREADS is set",
+     .min = 1,
+     .max = 4096},
+    {.name = "force", .help = "clone and run every point again, finished or not"},
+    {.name = "printJobs",
+     .help = "prepare the unfinished cases and print one shell command per\n"
+             "case instead of running them (for GNU parallel or a cluster)",
+     .aliases = "print-jobs"},
+    {.name = "collect", .help = "only gather the results of the existing cases"},
+    APP_END};
 
-static int positive_int(const char *opt, const char *s)
-{
-    char *end;
-    long v = strtol(s, &end, 10);
-    if (*end || v < 1 || v > 4096) {
-        fprintf(stderr, "sweepCase: %s needs a positive number, not '%s'\n", opt, s);
-        usage(2);
-    }
-    return (int)v;
-}
+static const app_info info = {
+    .name = "sweepCase",
+    .what = "Runs one case per point of a parameter sweep and tabulates the results.\n"
+            "The cases are <sweep dir>/cases/<name> (names from the values, e.g.\n"
+            "eta_0.5-mode_adaptive); a case whose log.<application> holds the solver's\n"
+            "'End:' line is finished and is not run again.  The table of parameters\n"
+            "against wallTime, steps, meanIterations, maxRhoErrAvg, maxRhoErrMax, shocks,\n"
+            "meanRhoErrAvg, maxVolErrAvg\n"
+            "(from postProcessing/timeStep/<startTime>/timeStep.dat) and the 'results'\n"
+            "columns is written to <sweep dir>/results.csv and results.md.",
+    .options = table,
+    .args = "<sweepDict>",
+    .min_args = 1,
+    .max_args = 1,
+    .args_kind = APP_PATH,
+    .notes = "Sweep dictionary (OpenFOAM syntax, paths relative to its folder):\n"
+             "  baseCase    ../../tutorials/damBreak;\n"
+             "  combine     product;          // or zip (the i-th values together)\n"
+             "  parameters\n"
+             "  {\n"
+             "      \"constant/fluidProperties/eta\"   (0.5 1 2);   // \"<file>/<entry>\" (values)\n"
+             "      \"system/timeStepDict/mode\"       (adaptive constant);\n"
+             "  }\n"
+             "  results     (postProcessing/densityError/0/densityError.dat:rhoErrAvg);\n"
+             "              // optional: <file>:<column>, its last row"};
 
 static options parse_args(int argc, char **argv)
 {
+    app a;
     options o = {0};
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "-jobs") && i + 1 < argc) o.jobs = positive_int(a, argv[++i]);
-        else if (!strcmp(a, "-threads") && i + 1 < argc) o.threads = positive_int(a, argv[++i]);
-        else if (!strcmp(a, "-force")) o.force = 1;
-        else if (!strcmp(a, "-print-jobs")) o.print_jobs = 1;
-        else if (!strcmp(a, "-collect")) o.collect = 1;
-        else if (!strcmp(a, "-help") || !strcmp(a, "--help")) usage(0);
-        else if (a[0] != '-' && !o.dict) o.dict = a;
-        else {
-            fprintf(stderr, "sweepCase: unknown or incomplete option '%s'\n", a);
-            usage(2);
-        }
-    }
-    if (!o.dict) {
-        fprintf(stderr, "sweepCase: no sweep dictionary given\n");
-        usage(2);
-    }
-    if (o.print_jobs && o.collect) {
-        fprintf(stderr, "sweepCase: use -print-jobs or -collect, not both\n");
-        usage(2);
-    }
+    app_parse(&a, &info, argc, argv);
+    o.dict = a.args[0];
+    o.jobs = (int)app_int(&a, "jobs", 0);
+    o.threads = (int)app_int(&a, "threads", 0);
+    o.force = app_found(&a, "force");
+    o.print_jobs = app_found(&a, "printJobs");
+    o.collect = app_found(&a, "collect");
+    if (o.print_jobs && o.collect) app_error(&a, "use -printJobs or -collect, not both");
+    app_free(&a);
     if (cores < 1) cores = 1;
     if (!o.jobs) o.jobs = (int)cores;
     if (!o.threads && !getenv("OMP_NUM_THREADS") && !o.print_jobs)

@@ -7,7 +7,6 @@
 #include "sweep.h"
 
 #include <errno.h>
-#include <fcntl.h>
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,6 +18,7 @@
 #include "casefiles/casefiles.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
+#include "core/sl_proc.h"
 #include "core/sl_progress.h"
 #include "dictedit/dictedit.h"
 #include "dictionary/dict.h"
@@ -180,23 +180,17 @@ static double sweep_seconds_since(const struct timespec *t0)
 
 static pid_t sweep_launch(const sweep *s, const char *solver, size_t point, int threads)
 {
-    char *dir = sweep_case_dir(s, point), *log = sweep_log_path(s, dir);
-    pid_t pid;
-    fflush(stdout);
-    fflush(stderr);
-    if ((pid = fork()) < 0) sl_fatal("cannot start %s: %s", solver, strerror(errno));
-    if (pid == 0) {
-        int fd = open(log, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-        char n[32];
-        if (fd < 0 || dup2(fd, STDOUT_FILENO) < 0 || dup2(fd, STDERR_FILENO) < 0) _exit(126);
-        if (threads > 0) {
-            snprintf(n, sizeof n, "%d", threads);
-            setenv("OMP_NUM_THREADS", n, 1);
-        }
-        execl(solver, s->application, "-case", dir, (char *)NULL);
-        fprintf(stderr, "sweepCase: cannot run %s: %s\n", solver, strerror(errno));
-        _exit(127);
+    char *dir = sweep_case_dir(s, point), *log = sweep_log_path(s, dir), n[32];
+    const char *argv[] = {solver, "-case", dir, NULL};
+    sl_proc p = {.argv = argv, .log = log};
+    sl_err err;
+    if (threads > 0) {
+        snprintf(n, sizeof n, "%d", threads);
+        p.env_name = "OMP_NUM_THREADS";
+        p.env_value = n;
     }
+    pid_t pid = sl_proc_start(&p, NULL, &err);
+    if (pid < 0) sl_fatal("%s", err.msg);
     free(log);
     free(dir);
     return pid;
