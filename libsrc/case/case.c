@@ -34,6 +34,14 @@ static dict *read_dict(const sl_case *c, const char *rel)
     dict *d = dict_read_file(path, &err);
     free(path);
     if (!d) sl_fatal("%s", err.msg);
+    return d;
+}
+
+/* read_dict, the first time a file is read: keys written twice are reported
+ * (once: read_periodic reads boundaryProperties again). */
+static dict *read_case_file(const sl_case *c, const char *rel)
+{
+    dict *d = read_dict(c, rel);
     dict_warn_duplicates(d);
     return d;
 }
@@ -93,7 +101,7 @@ static void read_controls(sl_case *c)
     static const char *const start_choices[] = {"startTime", "latestTime", NULL};
     static const char *const format_choices[] = {"binary", "ascii", NULL};
     static const char *const write_choices[] = {"adjustableRunTime", "runTime", NULL};
-    dict *d = read_dict(c, "system/controlDict");
+    dict *d = read_case_file(c, "system/controlDict");
     case_controls *k = &c->ctl;
     sl_err err;
     const char *w;
@@ -134,7 +142,7 @@ static void read_controls(sl_case *c)
 
 static void read_timestep(sl_case *c)
 {
-    dict *d = read_dict(c, "system/timeStepDict");
+    dict *d = read_case_file(c, "system/timeStepDict");
     ts_read(d, &c->ts);
     dict_free(d);
 }
@@ -229,6 +237,16 @@ static void read_emitter(sl_case *c, const dict *e, const dict_entry *at)
     positive(e, "speed", m->speed);
     need(dict_get_scalar_or(e, "startTime", 0.0, &m->t0, &err), &err);
     need(dict_get_scalar_or(e, "endTime", INFINITY, &m->t1, &err), &err);
+    if (!(m->t1 > m->t0)) {
+        char why[160];
+        snprintf(why, sizeof why, "must be larger than the emitter's startTime (%g s): it would "
+                 "never emit", m->t0);
+        bad_value(e, "endTime", why);
+    }
+    if (m->t0 >= c->ctl.end_time)
+        warn_value(e, "startTime", "%g s is at or after the run's endTime (%g s in "
+                   "system/controlDict): emitter '%s' never emits", m->t0, c->ctl.end_time,
+                   dict_name(e));
     m->rho0 = c->prm.rho0;
     if (emt_setup(m, c->prm.r0) == 0)
         bad_value(e, disc ? "radius" : "size", "the opening holds no particle at this particleSpacing");
@@ -237,7 +255,7 @@ static void read_emitter(sl_case *c, const dict *e, const dict_entry *at)
 static void read_fluid(sl_case *c)
 {
     static const double g0[3] = {0, 0, -9.81};
-    dict *d = read_dict(c, "constant/fluidProperties");
+    dict *d = read_case_file(c, "constant/fluidProperties");
     pcs_params *p = &c->prm;
     sl_err err;
     long l;
@@ -254,8 +272,8 @@ static void read_fluid(sl_case *c)
     double gn = sqrt(p->gravity[0] * p->gravity[0] + p->gravity[1] * p->gravity[1] +
                      p->gravity[2] * p->gravity[2]);
     if (gn > CASE_GRAVITY_WARN)
-        warn_value(d, "gravity", "|g| = %g m/s^2 is more than %g times the Earth's 9.81: "
-                   "wrong units?", gn, CASE_GRAVITY_WARN / 9.81);
+        warn_value(d, "gravity", "|g| = %g m/s^2 is above %g m/s^2 (the Earth's is 9.81): "
+                   "wrong units (cm/s^2)?", gn, CASE_GRAVITY_WARN);
     need(dict_get_scalar_or(d, "eta", 1.0, &eta, &err), &err);
     if (!(eta > 0.0 && eta < 100.0))
         bad_value(d, "eta", "must be a percentage above 0 and below 100 (the paper uses 1)");
@@ -368,7 +386,8 @@ static void read_mesh(sl_case *c, const dict *s, geo_shape *g, int region)
     need(dict_get_word_or(s, "side", "obstacle", &side, &err), &err);
     g->mesh_container = region ? 0 : choose(s, "side", side, sides);
     mesh_report rep;
-    if (mesh_validate(g->mesh, path, region ? MESH_REQUIRE_CLOSED : 0, &rep, &err))
+    unsigned check = region ? MESH_REQUIRE_CLOSED : g->mesh_container ? 0 : MESH_WARN_OPEN;
+    if (mesh_validate(g->mesh, path, check, &rep, &err))
         sl_fatal("%s (geometry '%s' in %s)", err.msg, g->name, dict_file(s));
     g->dbound = 2.0 * c->prm.r0;
     free(path);
@@ -441,7 +460,7 @@ static void read_shape(sl_case *c, const dict *s)
 
 static void read_boundary(sl_case *c)
 {
-    dict *d = read_dict(c, "constant/boundaryProperties");
+    dict *d = read_case_file(c, "constant/boundaryProperties");
     sl_err err;
     const char *w;
     dict_warn_unknown(d, boundary_keys);
@@ -548,13 +567,11 @@ static void read_periodic(sl_case *c, const char *rel)
     dict_free(d);
 }
 
-/* Where each top-level key of the case files belongs, so that `eta` in
- * controlDict is reported as belonging in constant/fluidProperties. */
-static void register_key_homes(void)
+const dict_key_home *case_key_homes(void)
 {
     static const char *fluid[64];
     static dict_key_home homes[5];
-    if (homes[0].where) return;
+    if (homes[0].where) return homes;
     const char **k = fluid_and_effect_keys();
     size_t n = 0;
     while (k[n] && n + 1 < sizeof fluid / sizeof *fluid) { fluid[n] = k[n]; n++; }
@@ -565,12 +582,13 @@ static void register_key_homes(void)
     homes[2] = (dict_key_home){"constant/fluidProperties", fluid};
     homes[3] = (dict_key_home){"constant/boundaryProperties", boundary_keys};
     homes[4] = (dict_key_home){NULL, NULL};
-    dict_warn_set_homes(homes);
+    return homes;
 }
 
 void case_read(sl_case *c, const char *dir)
 {
-    register_key_homes();
+    /* `eta` in controlDict is reported as belonging in fluidProperties */
+    dict_warn_set_homes(case_key_homes());
     memset(c, 0, sizeof *c);
     pcs_params_default(&c->prm);
     eff_set_init(&c->effects);
@@ -632,7 +650,7 @@ static void build_status(sl_progress *p, const char *what, const char *name, siz
     sl_progress_update(p, (double)k, text);
 }
 
-/* The names of the containers ("'tank'", "'tank', 'glass'"), for messages. */
+/* The names of the box containers ("'tank'", "'tank', 'table'"). */
 static const char *container_names(const sl_case *c)
 {
     static char buf[256];
@@ -640,7 +658,7 @@ static const char *container_names(const sl_case *c)
     buf[0] = 0;
     for (size_t s = 0; s < c->nshapes && off < sizeof buf; s++) {
         const geo_shape *g = &c->shapes[s];
-        if (g->kind == GEO_CONTAINER || (g->kind == GEO_MESH && g->mesh_container))
+        if (g->kind == GEO_CONTAINER)
             off += (size_t)snprintf(buf + off, sizeof buf - off, "%s'%s'", off ? ", " : "", g->name);
     }
     return buf;
@@ -659,54 +677,49 @@ static int pours_in(const geo_shape *g, const double p[3], const double dir[3], 
     return 1;
 }
 
-/* 1 if p lies beyond the bounding box of the mesh container g (a glass,
- * a cup: its open top is not known) on a side from which the jet or
- * gravity carries it towards the box: a vessel filled from above. */
-static int pours_into_mesh(const geo_shape *g, const double p[3], const double dir[3],
-                           const double grav[3])
+/* An emitter must open into the fluid space: every point of its opening
+ * inside the box containers (or pouring in through an open face) and
+ * outside the solids; else its particles fall outside the tank forever, or
+ * are born inside a wall.  A mesh container is not checked: a tap above a
+ * glass pours into it. */
+/* The first shape that excludes p from the fluid space (nshapes: none). */
+static size_t excluding_shape(const sl_case *c, const emt_emitter *m, const double p[3])
 {
-    double lo[3], hi[3];
-    int beyond = 0;
-    geo_bounds(g, 0.0, lo, hi);
-    for (int d = 0; d < 3; d++) {
-        if (p[d] < lo[d]) {
-            if (!(dir[d] > 0 || grav[d] > 0)) return 0;
-            beyond = 1;
-        }
-        if (p[d] > hi[d]) {
-            if (!(dir[d] < 0 || grav[d] < 0)) return 0;
-            beyond = 1;
-        }
+    size_t s;
+    for (s = 0; s < c->nshapes; s++) {
+        const geo_shape *t = &c->shapes[s];
+        if (t->kind == GEO_MESH && t->mesh_container) continue;
+        if (geo_solid_distance(t, p) < 0.0 &&
+            !(t->kind == GEO_CONTAINER && pours_in(t, p, m->dir, c->prm.gravity)))
+            break;
     }
-    return beyond;
+    return s;
 }
 
-/* An emitter must open into the fluid space: every point of its opening
- * inside the containers (or pouring in through an open face) and outside
- * the solids; else its particles fall outside the tank forever, or are
- * born inside a wall. */
 static void check_emitter_place(const sl_case *c, size_t k)
 {
     const emt_emitter *m = &c->emitters[k];
-    for (size_t q = 0; q < m->np; q++) {
-        double p[3];
-        size_t s = 0;
-        for (int d = 0; d < 3; d++) p[d] = m->centre[d] + m->pu[q] * m->u[d] + m->pv[q] * m->v[d];
-        for (s = 0; s < c->nshapes; s++) {
-            const geo_shape *t = &c->shapes[s];
-            if (geo_solid_distance(t, p) < 0.0 &&
-                !(t->kind == GEO_CONTAINER && pours_in(t, p, m->dir, c->prm.gravity)) &&
-                !(t->kind == GEO_MESH && t->mesh_container && pours_into_mesh(t, p, m->dir, c->prm.gravity)))
-                break;
+    for (int ahead = 0; ahead < 2; ahead++) /* the opening, then one spacing downstream */
+        for (size_t q = 0; q < m->np; q++) {
+            double p[3];
+            for (int d = 0; d < 3; d++)
+                p[d] = m->centre[d] + m->pu[q] * m->u[d] + m->pv[q] * m->v[d] +
+                       ahead * c->prm.r0 * m->dir[d];
+            size_t s = excluding_shape(c, m, p);
+            if (s == c->nshapes) continue;
+            const geo_shape *g = &c->shapes[s];
+            int outside = g->kind == GEO_CONTAINER;
+            if (ahead)
+                sl_fatal("%s: emitter '%s' points %s geometry '%s': one particleSpacing "
+                         "downstream, (%g %g %g) is %s; turn its direction into the fluid space",
+                         c->emitter_where[k].text, m->name, outside ? "out of the container" : "into the solid",
+                         g->name, p[0], p[1], p[2], outside ? "beyond the walls" : "inside it");
+            sl_fatal("%s: emitter '%s' opens %s geometry '%s': its point (%g %g %g) is %s; move "
+                     "its centre (or make it smaller) so that the whole opening is in the fluid "
+                     "space", c->emitter_where[k].text, m->name,
+                     outside ? "outside the container" : "inside the solid", g->name, p[0], p[1],
+                     p[2], outside ? "beyond the walls" : "inside it");
         }
-        if (s == c->nshapes) continue;
-        const geo_shape *g = &c->shapes[s];
-        int outside = g->kind == GEO_CONTAINER || (g->kind == GEO_MESH && g->mesh_container);
-        sl_fatal("%s: emitter '%s' opens %s geometry '%s': its point (%g %g %g) is %s; move "
-                 "its centre (or make it smaller) so that the whole opening is in the fluid space",
-                 c->emitter_where[k].text, m->name, outside ? "outside the container" : "inside the solid",
-                 g->name, p[0], p[1], p[2], outside ? "beyond the walls" : "inside it");
-    }
 }
 
 /* The volume an emitter delivers before endTime, against the containers'
@@ -721,14 +734,56 @@ static void check_emitter_volume(const sl_case *c, size_t k)
         const geo_shape *g = &c->shapes[s];
         if (g->kind == GEO_CONTAINER)
             tank += (g->hi[0] - g->lo[0]) * (g->hi[1] - g->lo[1]) * (g->hi[2] - g->lo[2]);
-        else if (g->kind == GEO_MESH && g->mesh_container)
-            tank += fabs(mesh_volume(g->mesh));
     }
     if (tank > 0.0 && vol > tank)
         sl_warning("%s: emitter '%s' delivers %.3g m^3 by t = %g s (%zu particles a layer, %g m/s) "
                    "but the containers (%s) hold %.3g m^3: the fluid will overflow; check speed, "
                    "startTime and endTime", c->emitter_where[k].text, m->name, vol, t1, m->np,
                    m->speed, container_names(c), tank);
+}
+
+/* Particles [from, fluid.n) of region r that lie inside an earlier region:
+ * two regions over one place would put two particles there (twice rho0,
+ * which PCISPH cannot undo), so overlapping regions are refused. */
+static void check_overlap(const sl_case *c, size_t r, size_t from)
+{
+    const sl_fluid *f = &c->fluid;
+    for (size_t q = 0; q < r; q++) {
+        size_t inside = 0;
+        for (size_t i = from; i < f->n; i++) {
+            const double p[3] = {f->x[i], f->y[i], f->z[i]};
+            inside += geo_solid_distance(&c->regions[q].shape, p) < 0.0;
+        }
+        if (inside)
+            sl_fatal("%s: fluid region '%s' overlaps fluid region '%s' (%s): %zu of its %zu "
+                     "particles lie inside '%s', where they would double the density; make the "
+                     "regions disjoint (or merge them)", c->regions[r].where.text,
+                     c->regions[r].name, c->regions[q].name, c->regions[q].where.text, inside,
+                     f->n - from, c->regions[q].name);
+    }
+}
+
+/* A body that lies wholly outside every box container meets no fluid:
+ * almost surely a wrong translate, scale or unit. */
+static void check_shape_place(const sl_case *c, size_t s, const double lo[3], const double hi[3])
+{
+    const geo_shape *g = &c->shapes[s];
+    int containers = 0;
+    if (g->kind == GEO_CONTAINER || (g->kind == GEO_MESH && g->mesh_container)) return;
+    /* (bodies that move are left alone: they may come in later) */
+    for (size_t t = 0; t < c->nshapes; t++) {
+        const geo_shape *k = &c->shapes[t];
+        if (k->kind != GEO_CONTAINER) continue;
+        containers++;
+        int apart = 0;
+        for (int d = 0; d < 3; d++) apart |= lo[d] > k->hi[d] || hi[d] < k->lo[d];
+        if (!apart) return;
+    }
+    if (containers)
+        sl_warning("%s/constant/boundaryProperties: geometry '%s' (%g %g %g)-(%g %g %g) lies "
+                   "wholly outside the container (%s): no fluid can reach it; wrong translate, "
+                   "scale or units?", c->dir, g->name, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2],
+                   container_names(c));
 }
 
 void case_build(sl_case *c)
@@ -742,6 +797,7 @@ void case_build(sl_case *c)
         geo_bounds(&c->shapes[s], 0.0, lo, hi);
         check_size(c, "constant/boundaryProperties", "geometry", c->shapes[s].name,
                    estimate(lo, hi, r0, 1));
+        if (c->motions[s].type == MOT_NONE) check_shape_place(c, s, lo, hi);
         if (c->shapes[s].kind == GEO_MESH) {
             double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                                (hi[2] - lo[2]) * (hi[2] - lo[2]));
@@ -793,7 +849,7 @@ void case_build(sl_case *c)
     for (size_t r = 0; r < c->nregions; r++) {
         const case_region *g = &c->regions[r];
         build_status(&prog, "filling fluid region", g->name, c->nshapes + r, nparts);
-        size_t lost = 0;
+        size_t lost = 0, from = c->fluid.n;
         size_t n = geo_fill_region(&g->shape, r0, g->velocity, c->shapes, c->nshapes, &c->fluid,
                                    &lost);
         if (lost)
@@ -805,6 +861,7 @@ void case_build(sl_case *c)
             sl_fatal("%s/constant/fluidProperties: fluid region '%s' holds no particle "
                      "(outside the container, inside an obstacle, or smaller than "
                      "particleSpacing %g)", c->dir, g->name, r0);
+        check_overlap(c, r, from);
         double lo[3], hi[3];
         geo_bounds(&g->shape, r0, lo, hi);
         grow_bounds(c->lo, c->hi, lo, hi);

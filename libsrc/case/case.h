@@ -18,6 +18,7 @@
 
 #include <stddef.h>
 
+#include "dictionary/dict.h"
 #include "geometry/geometry.h"
 #include "motion/motion.h"
 #include "effects/emitter.h"
@@ -75,5 +76,8 @@ void case_read(sl_case *c, const char *dir);
  * scene is empty or impossible. */
 void case_build(sl_case *c);
 void case_free(sl_case *c);
+/* The top-level keys of each case file ("system/controlDict", ...; ends
+ * with where == NULL), for messages about misplaced or misspelt keys. */
+const dict_key_home *case_key_homes(void);
 
 #endif

@@ -38,7 +38,8 @@ void dict_parse_add(const dict_lexer *lx, dict *d, dict_entry *e)
         return;
     }
     const dict_entry *old = dict_find_local(d, e->key, strlen(e->key));
-    if (old && !old->copied && old->file == e->file) e->prev_line = old->line;
+    if (old && !old->copied && old->file == e->file && old->line != e->line)
+        e->prev_line = old->line; /* (one line twice: a file #include'd twice) */
     dict_insert(d, e);
 }
 

@@ -1,6 +1,7 @@
 /* geometry: shapes, boundary sampling and fluid filling (see geometry.h). */
 #include "geometry/geometry.h"
 #include "geometry/mesh.h"
+#include "geometry/mesh_progress.h"
 #include "geometry/mesh_sample.h"
 #include "core/sl_log.h"
 
@@ -279,11 +280,12 @@ void geo_bounds(const geo_shape *s, double r0, double lo[3], double hi[3])
 }
 
 
-/* 1 if p lies beyond the walls of a container (box or mesh): a region
- * point dropped there is fluid the user asked for that is lost. */
+/* 1 if p lies beyond the walls of a box container: a region point dropped
+ * there is fluid the user asked for that is lost.  (A mesh container is
+ * not counted: a box region over a glass is the way to fill the glass.) */
 static int beyond_container(const geo_shape *s, double d)
 {
-    return d < 0.0 && (s->kind == GEO_CONTAINER || (s->kind == GEO_MESH && s->mesh_container));
+    return d < 0.0 && s->kind == GEO_CONTAINER;
 }
 
 /* The lattice of spacing r0 over [lo, hi] (first point at lo + r0/2),
@@ -297,8 +299,15 @@ static size_t fill_lattice(const geo_shape *region, const double lo[3], const do
     size_t added = 0, beyond = 0;
     const double keep = 0.5 * r0 * (1.0 - 1e-9);
     for (int d = 0; d < 3; d++) n[d] = (long)floor((hi[d] - lo[d]) / r0 + 1e-9);
+    const size_t row = n[0] > 0 ? (size_t)n[0] : 0, plane = row * (n[1] > 0 ? (size_t)n[1] : 0);
+    mesh_progress mp;
+    mesh_progress_start(&mp, plane * (n[2] > 0 ? (size_t)n[2] : 0),
+                        "filling '%s' (%ld x %ld x %ld lattice points)",
+                        region->name[0] ? region->name : "a box", n[0], n[1],
+                        n[2]);
     for (long k = 0; k < n[2]; k++)
-        for (long j = 0; j < n[1]; j++)
+        for (long j = 0; j < n[1]; j++) {
+            mesh_progress_at(&mp, (size_t)k * plane + (size_t)j * row);
             for (long i = 0; i < n[0]; i++) {
                 double p[3] = {lo[0] + ((double)i + 0.5) * r0, lo[1] + ((double)j + 0.5) * r0,
                                lo[2] + ((double)k + 0.5) * r0};
@@ -318,6 +327,8 @@ static size_t fill_lattice(const geo_shape *region, const double lo[3], const do
                 prt_fluid_push(f, p[0], p[1], p[2], v[0], v[1], v[2]);
                 added++;
             }
+        }
+    mesh_progress_end(&mp);
     if (outside) *outside = beyond;
     return added;
 }

@@ -62,8 +62,8 @@ size_t geo_fill_box(const double lo[3], const double hi[3], double r0, const dou
  * cubic lattice of spacing r0 anchored at the shape's bounds, keeping
  * points at least r0/2 inside the region and r0/2 away from every solid.
  * *outside (may be NULL) receives the number of lattice points dropped
- * because they lie beyond the walls of a container (not merely within r0/2
- * of them): fluid the region asks for that would be lost. */
+ * because they lie beyond the walls of a box container (not merely within
+ * r0/2 of them): fluid the region asks for that would be lost. */
 size_t geo_fill_region(const geo_shape *region, double r0, const double v[3],
                        const geo_shape *shapes, size_t nshapes, sl_fluid *f, size_t *outside);
 

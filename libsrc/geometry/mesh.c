@@ -456,6 +456,12 @@ int mesh_validate(mesh *m, const char *name, unsigned flags, mesh_report *rep, s
         mesh_topology_free(&tp);
         return 1;
     }
+    if (!r.closed && (flags & MESH_WARN_OPEN)) { /* an open obstacle: legal, but say so */
+        sl_err open;
+        closed_error(m, &tp, name, &r, &open);
+        sl_warning("%s: it is sampled as an open sheet, and inside and outside are not defined "
+                   "near its holes (close the mesh for a solid body)", open.msg);
+    }
     r.reoriented = make_consistent(m, &tp, &bad);
     mesh_topology_free(&tp);
     if (r.reoriented == (size_t)-1) {

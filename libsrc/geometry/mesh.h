@@ -116,7 +116,10 @@ void mesh_topology_free(mesh_topology *tp);
 
 enum {
     MESH_REQUIRE_CLOSED = 1, /* error unless every edge has exactly two triangles */
-    MESH_QUIET = 2           /* no warnings for repairs (they are still reported) */
+    MESH_QUIET = 2,          /* no warnings for repairs (they are still reported) */
+    MESH_WARN_OPEN = 4       /* warn when not closed ("<name>: mesh is not closed: ...: it is
+                                sampled as an open sheet ..."): for obstacles, where a glass
+                                open at the top as a container is not */
 };
 
 typedef struct mesh_report {

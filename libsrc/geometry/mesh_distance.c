@@ -21,6 +21,7 @@
 #include "geometry/mesh.h"
 
 #include "core/sl_mem.h"
+#include "geometry/mesh_progress.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -107,6 +108,8 @@ typedef struct build_ctx {
     uint32_t *perm; /* slot -> triangle while building */
     bvh_node *node;
     size_t nnode;
+    size_t work;    /* triangles scanned so far: the build's cost (progress) */
+    mesh_progress *mp;
 } build_ctx;
 
 /* Partially sort perm[lo, hi) so that perm[k] has the k-th centroid along
@@ -143,6 +146,8 @@ static size_t build_node(build_ctx *b, size_t lo, size_t hi, int depth)
     double clo[3], chi[3];
     int axis = 0;
     if (depth >= MAX_DEPTH) sl_fatal("mesh index: hierarchy deeper than %d", MAX_DEPTH);
+    b->work += hi - lo; /* each level scans (and splits) every triangle once */
+    mesh_progress_at(b->mp, b->work);
     for (int d = 0; d < 3; d++) {
         n->lo[d] = clo[d] = INFINITY;
         n->hi[d] = chi[d] = -INFINITY;
@@ -184,7 +189,8 @@ void mesh_index_build(mesh *m)
 {
     mesh_index *ix = sl_calloc(1, sizeof *ix, "a mesh index");
     mesh_topology tp;
-    build_ctx b = {.m = m};
+    mesh_progress mp;
+    build_ctx b = {.m = m, .mp = &mp};
     size_t nt = m->nt;
     mesh_touch(m);
     if (nt > UINT32_MAX / 2) sl_fatal("mesh index: %zu triangles are too many", nt);
@@ -199,7 +205,11 @@ void mesh_index_build(mesh *m)
             b.cen[3 * j + d] = (m->v[3 * m->t[3 * j] + d] + m->v[3 * m->t[3 * j + 1] + d] +
                                 m->v[3 * m->t[3 * j + 2] + d]) / 3.0;
     }
+    size_t levels = 1;
+    while ((nt >> levels) > LEAF_SIZE) levels++;
+    mesh_progress_start(&mp, nt * (levels + 1), "indexing a mesh of %zu triangles", nt);
     if (nt) build_node(&b, 0, nt, 0);
+    mesh_progress_end(&mp);
     ix->nt = nt;
     ix->nnode = b.nnode;
     ix->node = b.node;

@@ -7,6 +7,7 @@
 
 #include "core/sl_mem.h"
 #include "geometry/mesh_grid.h"
+#include "geometry/mesh_progress.h"
 #include "io/atomic_file.h"
 
 #include <errno.h>
@@ -50,7 +51,10 @@ size_t mesh_weld(mesh *m, double tol)
     if (nv == 0 || !(tol > 0.0) || !isfinite(tol)) return 0;
     map = sl_malloc(nv * sizeof *map, "a vertex map");
     mgrid_init(&g, tol, nv);
+    mesh_progress mp;
+    mesh_progress_start(&mp, nv, "welding %zu vertices", nv);
     for (size_t i = 0; i < nv; i++) {
+        mesh_progress_at(&mp, i);
         double p[3] = {m->v[3 * i], m->v[3 * i + 1], m->v[3 * i + 2]};
         size_t q = mgrid_nearest_within(&g, p, tol, MGRID_NONE, NULL);
         if (q == MGRID_NONE) {
@@ -59,6 +63,7 @@ size_t mesh_weld(mesh *m, double tol)
         }
         map[i] = (uint32_t)q;
     }
+    mesh_progress_end(&mp);
     for (size_t i = 0; i < 3 * m->nt; i++) m->t[i] = map[m->t[i]];
     m->nv = g.n;
     mgrid_free(&g);
@@ -228,10 +233,17 @@ int mesh_read_obj(const char *path, mesh *m, sl_err *err)
     int status = 0;
     mesh_init(m);
     if (!f) return open_error(path, err);
+    struct stat st;
+    size_t size = fstat(fileno(f), &st) == 0 && st.st_size > 0 ? (size_t)st.st_size : 0, got = 0;
+    mesh_progress mp;
+    mesh_progress_start(&mp, size, "reading %s (%zu bytes)", path, size);
     while (!status && (len = getline(&line, &cap, f)) != -1) {
         r.line++;
+        got += (size_t)len;
+        mesh_progress_at(&mp, got);
         status = obj_line(&r, line, (size_t)len);
     }
+    mesh_progress_end(&mp);
     if (!status && ferror(f)) {
         sl_err_set(err, "cannot read file '%s': %s", path, strerror(errno));
         status = 1;
@@ -278,17 +290,21 @@ static int stl_binary(FILE *f, const char *path, uint32_t n, mesh *m, sl_err *er
     enum { CHUNK = 4096 };
     unsigned char *buf = sl_malloc(50 * CHUNK, "an STL buffer");
     uint32_t done = 0;
+    mesh_progress mp;
     if ((uint64_t)n * 3 > MESH_MAX_VERTICES) {
         sl_err_set(err, "%s: byte 80: %lu triangles are more than this reader handles", path,
                    (unsigned long)n);
         free(buf);
         return 1;
     }
+    mesh_progress_start(&mp, n, "reading %s (%lu triangles)", path, (unsigned long)n);
     while (done < n) {
         uint32_t chunk = n - done < CHUNK ? n - done : CHUNK;
+        mesh_progress_at(&mp, done);
         if (fread(buf, 50, chunk, f) != chunk) {
             sl_err_set(err, "%s: byte %llu: unexpected end of file (%s)", path,
                        84ull + 50ull * done, ferror(f) ? strerror(errno) : "file shrank?");
+            mesh_progress_end(&mp);
             free(buf);
             return 1;
         }
@@ -302,6 +318,7 @@ static int stl_binary(FILE *f, const char *path, uint32_t n, mesh *m, sl_err *er
                     unsigned long long off = 84ull + 50ull * (done + i) + 12u + 4u * (unsigned)k;
                     sl_err_set(err, "%s: byte %llu: triangle %lu has a non-finite coordinate",
                                path, off, (unsigned long)(done + i) + 1);
+                    mesh_progress_end(&mp);
                     free(buf);
                     return 1;
                 }
@@ -311,6 +328,7 @@ static int stl_binary(FILE *f, const char *path, uint32_t n, mesh *m, sl_err *er
         }
         done += chunk;
     }
+    mesh_progress_end(&mp);
     free(buf);
     return 0;
 }
@@ -398,11 +416,30 @@ static int stl_facet(stl_text *x, mesh *m)
     return 0;
 }
 
+/* One "solid ... endsolid" of an ascii STL, from its first token. */
+static int stl_solid(stl_text *x, mesh *m, const char *tok, size_t n, mesh_progress *mp)
+{
+    if (n != 5 || strncasecmp(tok, "solid", 5) != 0) return stl_error(x, "'solid'", tok, n);
+    stl_skip_line(x); /* the name */
+    for (;;) {
+        mesh_progress_at(mp, (size_t)(x->p - x->s));
+        n = stl_next(x, &tok);
+        if (n == 8 && strncasecmp(tok, "endsolid", 8) == 0) break;
+        if (n != 5 || strncasecmp(tok, "facet", 5) != 0)
+            return stl_error(x, "'facet' or 'endsolid'", tok, n);
+        if (stl_facet(x, m)) return 1;
+    }
+    stl_skip_line(x);
+    return 0;
+}
+
 static int stl_ascii(stl_text *x, mesh *m)
 {
     const char *tok;
-    size_t n;
-    for (const char *c = x->s; *c; c++) {
+    size_t n, size = 0;
+    mesh_progress mp;
+    int rc = 0;
+    for (const char *c = x->s; *c; c++, size++) {
         if (*c == '\n') x->line++;
         if (is_binary_byte((unsigned char)*c)) {
             sl_err_set(x->err, "%s:%ld: invalid byte 0x%02x in an ascii STL (binary or corrupt?)",
@@ -411,19 +448,11 @@ static int stl_ascii(stl_text *x, mesh *m)
         }
     }
     x->line = 1;
-    while ((n = stl_next(x, &tok)) != 0) {
-        if (n != 5 || strncasecmp(tok, "solid", 5) != 0) return stl_error(x, "'solid'", tok, n);
-        stl_skip_line(x); /* the name */
-        for (;;) {
-            n = stl_next(x, &tok);
-            if (n == 8 && strncasecmp(tok, "endsolid", 8) == 0) break;
-            if (n != 5 || strncasecmp(tok, "facet", 5) != 0)
-                return stl_error(x, "'facet' or 'endsolid'", tok, n);
-            if (stl_facet(x, m)) return 1;
-        }
-        stl_skip_line(x);
-    }
-    return 0;
+    /* bytes, not facets: an ascii STL does not say how many it holds */
+    mesh_progress_start(&mp, size, "reading %s (%zu bytes)", x->path, size);
+    while (!rc && (n = stl_next(x, &tok)) != 0) rc = stl_solid(x, m, tok, n, &mp);
+    mesh_progress_end(&mp);
+    return rc;
 }
 
 /* Is the whole file text?  (A binary STL may start with "solid" too.) */

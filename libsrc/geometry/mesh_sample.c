@@ -5,6 +5,7 @@
 
 #include "core/sl_mem.h"
 #include "geometry/mesh_grid.h"
+#include "geometry/mesh_progress.h"
 
 #include <gsl/gsl_rng.h>
 #include <math.h>
@@ -175,10 +176,43 @@ static size_t offset_vertices(sampler *s)
     return clamped;
 }
 
+/* Why triangles turned over: at an open rim, finer than r0 (next to a
+ * sharp edge the offset of a small triangle folds), or in a part thinner
+ * than r0 (the rest). */
+typedef struct turned_count {
+    size_t rim, fine, thin;
+} turned_count;
+
+static double max_edge2(const double *a, const double *b, const double *c)
+{
+    double m = 0.0;
+    const double *p[4] = {a, b, c, a};
+    for (int k = 0; k < 3; k++) {
+        double d[3] = {p[k + 1][0] - p[k][0], p[k + 1][1] - p[k][1], p[k + 1][2] - p[k][2]};
+        double l2 = dot3(d, d);
+        if (l2 > m) m = l2;
+    }
+    return m;
+}
+
+static void classify_turned(const sampler *s, size_t j, turned_count *tc)
+{
+    const uint32_t *t = s->m->t + 3 * j;
+    for (int k = 0; k < 3; k++)
+        if (s->tp.ecount[s->tp.tedge[3 * j + k]] == 1) {
+            tc->rim++;
+            return;
+        }
+    const double *v = s->m->v;
+    if (max_edge2(v + 3 * t[0], v + 3 * t[1], v + 3 * t[2]) < s->r0 * s->r0) tc->fine++;
+    else tc->thin++;
+}
+
 /* Triangles whose offset turned over (normal reversed). */
-static size_t count_turned(const sampler *s)
+static size_t count_turned(const sampler *s, turned_count *tc)
 {
     size_t n = 0;
+    memset(tc, 0, sizeof *tc);
     for (size_t j = 0; j < s->m->nt; j++) {
         const uint32_t *t = s->m->t + 3 * j;
         const double *a = s->off + 3 * t[0], *b = s->off + 3 * t[1], *c = s->off + 3 * t[2];
@@ -186,7 +220,10 @@ static size_t count_turned(const sampler *s)
         double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
         double x[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
                        u[0] * w[1] - u[1] * w[0]};
-        n += s->sign * dot3(x, s->fn + 3 * j) < 0.0; /* fn = sign * mesh normal */
+        if (s->sign * dot3(x, s->fn + 3 * j) < 0.0) { /* fn = sign * mesh normal */
+            n++;
+            classify_turned(s, j, tc);
+        }
     }
     return n;
 }
@@ -497,8 +534,11 @@ static void sample_faces(sampler *s, const msample_params *p)
                               s->off[3 * (size_t)m->t[3 * j + 1] + d] +
                               s->off[3 * (size_t)m->t[3 * j + 2] + d]) / 3.0;
     z_order(cen, m->nt, lo, hi, order);
+    mesh_progress mp;
+    mesh_progress_start(&mp, m->nt, "sampling a mesh of %zu triangles", m->nt);
     for (size_t q = 0; q < m->nt; q++) {
         size_t j = order[q];
+        mesh_progress_at(&mp, q);
         double expect = p->darts * offset_area(s, j) / (s->r0 * s->r0);
         double ndarts = floor(expect) + (gsl_rng_uniform(rng) < expect - floor(expect));
         for (double i = 0; i < ndarts; i++) {
@@ -512,6 +552,7 @@ static void sample_faces(sampler *s, const msample_params *p)
             accept(s, x, n, p->min_spacing * s->r0);
         }
     }
+    mesh_progress_end(&mp);
     gsl_rng_free(rng);
     free(order);
     free(cen);
@@ -605,8 +646,12 @@ static void relax(sampler *s, int sweeps, size_t nfixed, double *x, double *n, s
     mesh_copy(&off, m);
     memcpy(off.v, s->off, 3 * m->nv * sizeof *off.v);
     mesh_index_build(&off);
+    mesh_progress mp;
+    mesh_progress_start(&mp, (size_t)sweeps * (np - nfixed), "relaxing %zu boundary particles "
+                        "(%d sweeps)", np - nfixed, sweeps);
     for (int it = 0; it < sweeps; it++) {
         double moved2 = 0.0;
+        mesh_progress_at(&mp, (size_t)it * (np - nfixed));
         if (stale) verlet_build(&v, x, nfixed, np, range + skin);
         memcpy(y, x, 3 * np * sizeof *y);
 #pragma omp parallel for schedule(static) if (np - nfixed > 8192)
@@ -645,6 +690,7 @@ static void relax(sampler *s, int sweeps, size_t nfixed, double *x, double *n, s
         }
         stale = 4.0 * moved2 > skin * skin;
     }
+    mesh_progress_end(&mp);
     mesh_free(&off);
     free(v.start);
     free(v.nbr);
@@ -746,12 +792,18 @@ int msample_surface(const mesh *m, const msample_params *p, uint32_t body, sl_bo
     s.sign = p->side == MSAMPLE_CONTAINER ? -1.0 : 1.0;
     face_data(&s);
     clamped = offset_vertices(&s);
-    turned = count_turned(&s);
-    if (clamped || turned)
+    turned_count tc;
+    turned = count_turned(&s, &tc);
+    if (clamped || tc.thin || tc.rim)
         sl_warning("mesh sampling: offsetting by r0/2 = %g clamps %zu vertices at sharp spikes "
-                   "and turns %zu triangles over (parts thinner than r0); the boundary "
-                   "particles there follow the surface only roughly",
-                   0.5 * p->r0, clamped, turned);
+                   "and turns %zu triangles over (%zu at open rims, %zu in parts thinner than "
+                   "r0, %zu finer than r0 next to sharp edges); the boundary particles there "
+                   "follow the surface only roughly",
+                   0.5 * p->r0, clamped, turned, tc.rim, tc.thin, tc.fine);
+    else if (tc.fine)
+        sl_info("mesh sampling: %zu triangles finer than r0 fold over next to sharp edges when "
+                "offset by r0/2 = %g (the sampled offset surface keeps the edges)", tc.fine,
+                0.5 * p->r0);
     mark_features(&s);
     corner_normals(&s);
     feature_adjacency(&s);

@@ -17,6 +17,7 @@
 
 #include "core/sl_mem.h"
 #include "dictionary/dict.h"
+#include "hostile_table.h"
 
 #define VALID "tests/data/dictionary/valid/"
 #define BAD "tests/data/dictionary/bad/"
@@ -385,6 +386,7 @@ static void test_bad_files(void **state)
         snprintf(where, sizeof where, BAD "%s:%d:", c->where ? c->where : c->file, c->line);
         assert_has(err.msg, where);
         assert_has(err.msg, c->part);
+        hostile_record("dictionary syntax (any case file)", c->file, err.msg);
     }
 }
 
@@ -665,6 +667,83 @@ static void test_warn_unknown(void **state)
     dict_free(d);
 }
 
+static int warn_duplicates(const dict *d, const char *const *valid)
+{
+    (void)valid;
+    return dict_warn_duplicates(d);
+}
+
+/* Issue 13, item 13: a key written twice in one file and dictionary is
+ * reported with both lines; overriding a merged or #include'd entry is not. */
+static void test_warn_duplicates(void **state)
+{
+    sl_err err = {{0}};
+    int count = -1;
+    (void)state;
+    dict *d = dict_parse_string("a 1;\nb 2;\na 3;\ns { x 1;\n x 2; }\nbase { y 1; }\n"
+                                "t { $base; y 2; }\n", "props", &err);
+    assert_non_null(d);
+    char *out = capture_stderr(warn_duplicates, d, NULL, &count);
+    assert_int_equal(count, 2);
+    assert_has(out, "props:3: keyword 'a' in dictionary 'props' is set twice, at lines 1 and 3: "
+                    "the value of line 3 is used");
+    assert_has(out, "props:5: keyword 'x' in dictionary 's' is set twice, at lines 4 and 5");
+    assert_null(strstr(out, "'y'"));
+    free(out);
+    dict_free(d);
+    /* an #include'd default overridden in the including file */
+    FILE *f = fopen("tests/output/dict_defaults", "w");
+    assert_non_null(f);
+    fputs("eta 1;\n", f);
+    fclose(f);
+    f = fopen("tests/output/dict_main", "w");
+    assert_non_null(f);
+    fputs("#include \"dict_defaults\"\neta 2;\n", f);
+    fclose(f);
+    d = dict_read_file("tests/output/dict_main", &err);
+    assert_non_null(d);
+    out = capture_stderr(warn_duplicates, d, NULL, &count);
+    assert_int_equal(count, 0);
+    assert_string_equal(out, "");
+    free(out);
+    dict_free(d);
+}
+
+/* Item 15: after DICT_WARN_MAX lines the rest are one count; a key of
+ * another file says where it belongs. */
+static void test_warn_unknown_capped(void **state)
+{
+    sl_err err = {{0}};
+    char text[4096] = "";
+    int count = -1;
+    (void)state;
+    for (int i = 0; i < 25; i++) snprintf(text + strlen(text), sizeof text - strlen(text), "k%d 1;\n", i);
+    strcat(text, "eta 1;\n");
+    dict *d = dict_parse_string(text, "controlDict", &err);
+    static const char *const valid[] = {"endTime", NULL};
+    static const char *const fluid[] = {"eta", "rho0", NULL};
+    const dict_key_home homes[] = {{"constant/fluidProperties", fluid}, {NULL, NULL}};
+    assert_non_null(d);
+    char *out = capture_stderr(dict_warn_unknown, d, valid, &count);
+    assert_int_equal(count, 26);
+    size_t lines = 0;
+    for (const char *c = out; *c; c++) lines += *c == '\n';
+    assert_int_equal(lines, DICT_WARN_MAX + 1);
+    assert_has(out, "controlDict: ... and 16 more unknown keywords in dictionary 'controlDict' (the "
+                    "last at line 26)");
+    free(out);
+    /* the misplaced key, among the first ten */
+    dict_free(d);
+    d = dict_parse_string("eta 1;\n", "controlDict", &err);
+    dict_warn_set_homes(homes);
+    out = capture_stderr(dict_warn_unknown, d, valid, &count);
+    dict_warn_set_homes(NULL);
+    assert_has(out, "controlDict:1: unknown keyword 'eta' in dictionary 'controlDict': it belongs "
+                    "in constant/fluidProperties (ignored here)");
+    free(out);
+    dict_free(d);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -691,6 +770,8 @@ int main(void)
         cmocka_unit_test(test_optional),
         cmocka_unit_test(test_nearest),
         cmocka_unit_test(test_warn_unknown),
+        cmocka_unit_test(test_warn_duplicates),
+        cmocka_unit_test(test_warn_unknown_capped),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -16,10 +16,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "core/sl_log.h"
 #include "geometry/mesh.h"
 #include "geometry/mesh_sample.h"
+#include "hostile_table.h"
 
 #define DATA "tests/data/mesh/"
 #define BAD "tests/data/mesh/bad/"
@@ -113,6 +115,8 @@ static void test_bad_files(void **state)
         if (rc == 0) fail_msg("%s: read without error", cases[i].file);
         assert_has(err.msg, cases[i].msg);
         assert_true(m.nv == 0 && m.nt == 0 && m.v == NULL && m.t == NULL);
+        const char *base = strrchr(cases[i].file, '/');
+        hostile_record("mesh file (mesh_read)", base[1] ? base + 1 : "a folder", err.msg);
     }
 }
 
@@ -670,6 +674,143 @@ static void test_sample_misc(void **state)
     mesh_free(&m);
 }
 
+/* Everything f(arg) prints on stderr (malloc'd). */
+static char *stderr_of(void (*f)(void *), void *arg)
+{
+    fflush(stderr);
+    FILE *tmp = tmpfile();
+    assert_non_null(tmp);
+    int saved = dup(2);
+    dup2(fileno(tmp), 2);
+    f(arg);
+    fflush(stderr);
+    dup2(saved, 2);
+    close(saved);
+    long n = ftell(tmp);
+    char *text = calloc((size_t)(n > 0 ? n : 0) + 1, 1);
+    rewind(tmp);
+    if (n > 0 && fread(text, 1, (size_t)n, tmp) != (size_t)n) text[0] = 0;
+    fclose(tmp);
+    return text;
+}
+
+/* A box of side 0.2 with each face cut into n x n squares (two triangles
+ * each), outward; without its top face when `lid` is 0. */
+static void fine_box(mesh *m, int n, int lid)
+{
+    static const double o[6][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0.2, 0}, {0, 0, 0}, {0.2, 0, 0}, {0, 0, 0.2}};
+    static const double u[6][3] = {{0, .2, 0}, {.2, 0, 0}, {0, 0, .2}, {0, 0, .2}, {0, .2, 0}, {.2, 0, 0}};
+    static const double v[6][3] = {{.2, 0, 0}, {0, 0, .2}, {.2, 0, 0}, {0, .2, 0}, {0, 0, .2}, {0, .2, 0}};
+    mesh_init(m);
+    for (int f = 0; f < (lid ? 6 : 5); f++)
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < n; j++) {
+                uint32_t c[4];
+                for (int k = 0; k < 4; k++) {
+                    double a = (double)(i + (k == 1 || k == 2)) / n, b = (double)(j + (k >= 2)) / n;
+                    c[k] = mesh_add_vertex(m, o[f][0] + a * u[f][0] + b * v[f][0],
+                                           o[f][1] + a * u[f][1] + b * v[f][1],
+                                           o[f][2] + a * u[f][2] + b * v[f][2]);
+                }
+                mesh_add_triangle(m, c[0], c[1], c[2]);
+                mesh_add_triangle(m, c[0], c[2], c[3]);
+            }
+    mesh_weld(m, 1e-9);
+}
+
+typedef struct validate_job {
+    mesh *m;
+    int rc;
+    size_t n;
+} validate_job;
+
+static void validate_and_sample(void *arg)
+{
+    validate_job *j = arg;
+    sl_err err = {{0}};
+    sl_boundary b;
+    msample_params p = msample_defaults(0.025, MSAMPLE_OBSTACLE);
+    prt_boundary_init(&b);
+    j->rc = mesh_validate(j->m, "openbox.stl", MESH_WARN_OPEN, NULL, &err);
+    if (j->rc == 0) j->rc = msample_surface(j->m, &p, 0, &b, &j->n, &err);
+    prt_boundary_free(&b);
+}
+
+/* Issue 13, item 11: an open obstacle is reported as open, naming the
+ * file; triangles that fold next to edges of a fine mesh are not blamed on
+ * "parts thinner than r0" (a closed fine box says nothing of the kind). */
+static void test_open_obstacle_reported(void **state)
+{
+    (void)state;
+    mesh m;
+    validate_job j = {&m, -1, 0};
+    fine_box(&m, 30, 0);
+    char *out = stderr_of(validate_and_sample, &j);
+    assert_int_equal(j.rc, 0);
+    assert_has(out, "Warning: openbox.stl: mesh is not closed: 120 edges are used by one "
+                    "triangle only");
+    assert_has(out, "open sheet");
+    if (strstr(out, "turns")) {
+        assert_has(out, "at open rims");
+        assert_has(out, " 0 in parts thinner than r0");
+    }
+    hostile_record("warned (the run goes on)", "an open obstacle mesh (a box without a lid)", out);
+    free(out);
+    mesh_free(&m);
+    fine_box(&m, 30, 1);
+    out = stderr_of(validate_and_sample, &j);
+    assert_int_equal(j.rc, 0);
+    if (strstr(out, "Warning")) fail_msg("a closed fine box warns: %s", out);
+    free(out);
+    mesh_free(&m);
+}
+
+typedef struct big_job {
+    const char *path;
+    mesh *m;
+    int rc;
+} big_job;
+
+static void read_and_validate(void *arg)
+{
+    big_job *j = arg;
+    sl_err err = {{0}};
+    j->rc = mesh_read(j->path, j->m, &err);
+    if (j->rc == 0) j->rc = mesh_validate(j->m, j->path, MESH_QUIET, NULL, &err);
+}
+
+/* Long mesh work shows progress and the time left (sl_progress lines, due
+ * at once here through SLUICE_PROGRESS_PERIOD); small meshes stay silent. */
+static void test_mesh_progress(void **state)
+{
+    (void)state;
+    mesh m;
+    sl_err err = {{0}};
+    fine_box(&m, 100, 1); /* 120000 triangles */
+    assert_int_equal(mesh_write_obj(&m, "tests/output/mesh_big.obj", NULL, &err), 0);
+    mesh_free(&m);
+    setenv("SLUICE_PROGRESS", "plain", 1);
+    setenv("SLUICE_PROGRESS_PERIOD", "1e-9", 1);
+    big_job j = {"tests/output/mesh_big.obj", &m, -1};
+    char *out = stderr_of(read_and_validate, &j);
+    assert_int_equal(j.rc, 0);
+    assert_int_equal(m.nt, 120000);
+    assert_has(out, "Progress: reading tests/output/mesh_big.obj (");
+    assert_has(out, "Progress: indexing a mesh of 120000 triangles");
+    assert_has(out, " %  wall ");
+    assert_has(out, "ETA ");
+    free(out);
+    mesh_free(&m);
+    j.path = DATA "cube_ascii.stl";
+    out = stderr_of(read_and_validate, &j);
+    assert_int_equal(j.rc, 0);
+    if (strstr(out, "Progress")) fail_msg("a 12-triangle mesh shows progress: %s", out);
+    free(out);
+    mesh_free(&m);
+    unsetenv("SLUICE_PROGRESS");
+    unsetenv("SLUICE_PROGRESS_PERIOD");
+}
+
 static void test_spacing(void **state)
 {
     double x[100], y[100], z[100];
@@ -712,6 +853,8 @@ int main(void)
         cmocka_unit_test(test_sample_sphere),
         cmocka_unit_test(test_sample_box),
         cmocka_unit_test(test_sample_misc),
+        cmocka_unit_test(test_open_obstacle_reported),
+        cmocka_unit_test(test_mesh_progress),
         cmocka_unit_test(test_spacing),
     };
     sl_log_set_quiet(1);

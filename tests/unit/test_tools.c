@@ -314,6 +314,45 @@ static void test_sweep_print_jobs(void **state)
     assert_string_equal(output, "0.1\n");
 }
 
+/* Issue 13, item 14: a misspelt parameter stops the sweep before any case
+ * is made or run, naming the nearest key; a known key the base case leaves
+ * at its default is accepted (it is added to each case). */
+static void test_sweep_misspelt_parameter(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *param, *expect;
+    } bad[] = {
+        {"\"constant/fluidProperties/etaa\" (0.5 2);",
+         "parameter 'constant/fluidProperties/etaa': 'etaa' is not a keyword of "
+         "constant/fluidProperties; did you mean 'eta'? (nothing was run)"},
+        {"\"constant/fluidProperties/viscosity/alpah\" (0.01 0.1);",
+         "'alpah' is not a keyword of constant/fluidProperties/viscosity; did you mean 'alpha'?"},
+        {"\"system/controlDict/writeIntervall\" (0.01 0.02);", "did you mean 'writeInterval'?"},
+        {"\"system/timeStepDict/temperature\" (1 2);",
+         "'temperature' is not a keyword of system/timeStepDict (nothing was run)"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
+        write_sweep(OUT "/sweepBad", "");
+        FILE *f = fopen(OUT "/sweepBad/sweepDict", "w");
+        assert_non_null(f);
+        fprintf(f, "baseCase base;\nparameters\n{\n    %s\n}\n", bad[k].param);
+        fclose(f);
+        int rc = tool("sweepCase", OUT "/sweepBad/sweepDict", bin_dir());
+        if (rc == 0 || !strstr(output, bad[k].expect) || !strstr(output, "sweepDict:4:"))
+            fail_msg("%s: exit %d, wanted '%s'; got: %s", bad[k].param, rc, bad[k].expect, output);
+        assert_int_equal(run("test ! -e " OUT "/sweepBad/cases"), 0);
+        hostile_record("sweepDict", bad[k].param, output);
+    }
+    write_sweep(OUT "/sweepBad", "");
+    FILE *f = fopen(OUT "/sweepBad/sweepDict", "w");
+    assert_non_null(f);
+    fprintf(f, "baseCase base;\nparameters\n{\n    \"system/controlDict/timePrecision\" (6 8);\n}\n");
+    fclose(f);
+    if (tool("sweepCase", "-print-jobs " OUT "/sweepBad/sweepDict", bin_dir()) != 0)
+        fail_msg("a known key at its default was refused: %s", output);
+}
+
 static void test_sweep_collect_fake_results(void **state)
 {
     (void)state;
@@ -946,6 +985,7 @@ int main(void)
         cmocka_unit_test(test_list_times_and_remove),
         cmocka_unit_test(test_clean_case),
         cmocka_unit_test(test_sweep_print_jobs),
+        cmocka_unit_test(test_sweep_misspelt_parameter),
         cmocka_unit_test(test_sweep_collect_fake_results),
         cmocka_unit_test(test_sweep_runs_the_solver),
         cmocka_unit_test(test_plot_sweep_pareto),

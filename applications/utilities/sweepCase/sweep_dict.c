@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "case/case.h"
 #include "casefiles/casefiles.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
@@ -98,16 +99,69 @@ static void sweep_locate(const sweep *s, sweep_param *p)
                  s->path, p->line, p->key, s->base);
 }
 
-/* Warns when the entry is not in the base case (it will be added). */
+/* The top-level keys the solver reads from `file` of a case, or NULL. */
+static const char *const *sweep_known_keys(const char *file)
+{
+    for (const dict_key_home *h = case_key_homes(); h->where; h++)
+        if (!strcmp(h->where, file)) return h->keys;
+    return NULL;
+}
+
+static int sweep_in(const char *key, const char *const *keys)
+{
+    for (size_t i = 0; keys && keys[i]; i++)
+        if (!strcmp(key, keys[i])) return 1;
+    return 0;
+}
+
+/* The keys of d (may be NULL) and `known` (may be NULL), NULL-terminated;
+ * free() the array. */
+static const char **sweep_candidates(const dict *d, const char *const *known)
+{
+    size_t nk = 0, nd = dict_size(d), n = 0;
+    while (known && known[nk]) nk++;
+    const char **c = sl_malloc((nk + nd + 1) * sizeof *c, "sweep keys");
+    for (size_t i = 0; i < nk; i++) c[n++] = known[i];
+    for (size_t i = 0; i < nd; i++) c[n++] = dict_entry_key(dict_entry_at(d, i));
+    c[n] = NULL;
+    return c;
+}
+
+/* An entry that is not in the base case: a key the solver knows (left at
+ * its default there) is added to each case; a misspelt one would give a
+ * sweep of identical points, so it stops the sweep before anything runs,
+ * naming the nearest key of the file (or of its dictionary). */
+static void sweep_check_missing(const sweep *s, const sweep_param *p, const dict *d,
+                                const char *path)
+{
+    const char *slash = strrchr(p->entry, '/'), *last = slash ? slash + 1 : p->entry;
+    char *parent = sl_strdup(p->entry);
+    parent[slash ? slash - p->entry : 0] = '\0';
+    const dict *in = slash ? dict_sub(d, parent) : d;
+    const char *const *known = slash ? NULL : sweep_known_keys(p->file);
+    const char **cand = sweep_candidates(in, known);
+    const char *near = dict_nearest(last, cand);
+    if (known && sweep_in(last, known))
+        sl_info("%s:%d: '%s' is not in %s (the default is used there): it is added to each case",
+                s->path, p->line, p->entry, path);
+    else if (known || near)
+        sl_fatal("%s:%d: parameter '%s': '%s' is not a keyword of %s%s%s%s%s%s (nothing was run)",
+                 s->path, p->line, p->key, last, p->file, slash ? "/" : "", slash ? parent : "",
+                 near ? "; did you mean '" : "", near ? near : "", near ? "'?" : "");
+    else
+        sl_warning("%s:%d: '%s' is not in %s: it will be added to each case", s->path, p->line,
+                   p->entry, path);
+    free(cand);
+    free(parent);
+}
+
 static void sweep_check_entry(const sweep *s, const sweep_param *p)
 {
     char *path = cf_join(s->base, p->file);
     sl_err err;
     dict *d = dict_read_file(path, &err);
     if (!d) sl_fatal("%s", err.msg);
-    if (!dict_lookup(d, p->entry))
-        sl_warning("%s:%d: '%s' is not in %s: it will be added to each case", s->path, p->line,
-                   p->entry, path);
+    if (!dict_lookup(d, p->entry)) sweep_check_missing(s, p, d, path);
     dict_free(d);
     free(path);
 }
