@@ -160,6 +160,23 @@ void nbr_sort_boundary(nbr_grid *g, sl_boundary *b)
     prt_boundary_permute(b, g->bperm);
 }
 
+/* The counting sort of sort_by_cell after the cells are known: start
+ * (ncells + 1) and perm (new index -> old index).  Stable. */
+static void count_by_cell(nbr_grid *g, size_t n, const uint32_t *cellv, uint32_t *start,
+                          uint32_t *perm)
+{
+    memset(g->count, 0, (g->ncells + 1) * sizeof *g->count);
+    for (size_t i = 0; i < n; i++) g->count[cellv[i] + 1]++;
+    start[0] = 0;
+    for (size_t k = 0; k < g->ncells; k++) start[k + 1] = start[k] + g->count[k + 1];
+    memcpy(g->count, start, g->ncells * sizeof *g->count);
+    for (size_t i = 0; i < n; i++) perm[g->count[cellv[i]]++] = (uint32_t)i;
+}
+
+/* One parallel region (each costs a barrier, and a busy machine makes
+ * barriers dear): cells, counting sort, order within the cells by id,
+ * then the state fields gathered into their spares (particles.h) and the
+ * pointers swapped; f->cell ends in the new order. */
 void nbr_sort_fluid(nbr_grid *g, sl_fluid *f)
 {
     if (g->perm_cap < f->cap) {
@@ -167,10 +184,54 @@ void nbr_sort_fluid(nbr_grid *g, sl_fluid *f)
         g->perm = sl_alloc_aligned(f->cap * sizeof *g->perm, "fluid permutation");
         g->perm_cap = f->cap;
     }
-    sort_by_cell(g, f->n, f->x, f->y, f->z, f->cell, g->fstart, g->perm);
-    /* key (cell, global id): the order does not depend on the previous one */
-    order_cells_by_id(g, g->fstart, g->perm, f->id);
-    prt_fluid_permute(f, g->perm);
+    double **state[PRT_STATE_PAIRS], **spare[PRT_STATE_PAIRS];
+    const int npairs = prt_fluid_state_pairs(f, state, spare);
+    const size_t n = f->n;
+    uint32_t *restrict perm = g->perm, *restrict cellv = f->cell, *restrict start = g->fstart;
+    const double *restrict x = f->x, *restrict y = f->y, *restrict z = f->z;
+#pragma omp parallel
+    {
+#pragma omp for schedule(static)
+        for (size_t i = 0; i < n; i++) {
+            int c[3];
+            cell_of(g, x[i], y[i], z[i], c);
+            cellv[i] = rank_of(g, c);
+        }
+#pragma omp single
+        count_by_cell(g, n, cellv, start, perm);
+        /* key (cell, global id): the order does not depend on the previous one */
+#pragma omp for schedule(dynamic, 256)
+        for (size_t k = 0; k < g->ncells; k++) {
+            uint32_t *seg = perm + start[k];
+            const uint32_t len = start[k + 1] - start[k];
+            for (uint32_t a = 1; a < len; a++) {
+                uint32_t v = seg[a], q = a;
+                while (q > 0 && f->id[seg[q - 1]] > f->id[v]) { seg[q] = seg[q - 1]; q--; }
+                seg[q] = v;
+            }
+            for (uint32_t a = 0; a < len; a++) cellv[start[k] + a] = (uint32_t)k;
+        }
+        for (int p = 0; p < npairs; p++) {
+            const double *restrict from = *state[p];
+            double *restrict to = *spare[p];
+#pragma omp for schedule(static) nowait
+            for (size_t i = 0; i < n; i++) to[i] = from[perm[i]];
+        }
+        {
+            const uint32_t *restrict from = f->id;
+            uint32_t *restrict to = f->scratch_u;
+#pragma omp for schedule(static)
+            for (size_t i = 0; i < n; i++) to[i] = from[perm[i]];
+        }
+    }
+    for (int p = 0; p < npairs; p++) {
+        double *t = *state[p];
+        *state[p] = *spare[p];
+        *spare[p] = t;
+    }
+    uint32_t *t = f->id;
+    f->id = f->scratch_u;
+    f->scratch_u = t;
 }
 
 /* ---- neighbour lists ---- */
@@ -181,49 +242,58 @@ void nbr_list_free(nbr_list *l)
 {
     sl_free_aligned(l->start);
     sl_free_aligned(l->idx);
-    for (int t = 0; t < l->nthreads; t++) free(l->tbuf[t]);
-    free(l->tbuf);
-    free(l->tcap);
-    free(l->tlen);
+    for (size_t c = 0; c < l->nbuf; c++) free(l->buf[c]);
+    free(l->buf);
+    free(l->bcap);
+    free(l->blen);
     memset(l, 0, sizeof *l);
 }
 
+static size_t chunks_of(size_t rows) { return (rows + NBR_CHUNK - 1) / NBR_CHUNK; }
+
+/* Rows and chunk buffers for `rows` rows.  Buffers are kept from build to
+ * build: they grow only when a chunk finds more neighbours than ever before. */
 static void list_prepare(nbr_list *l, size_t rows)
 {
-    int nt = omp_get_max_threads();
+    const size_t nch = chunks_of(rows);
     if (rows + 1 > l->rows_cap) {
         sl_free_aligned(l->start);
         l->rows_cap = rows + 1 + rows / 4;
         l->start = sl_alloc_aligned(l->rows_cap * sizeof *l->start, "neighbour list rows");
     }
-    if (nt > l->nthreads) {
-        l->tbuf = sl_realloc(l->tbuf, (size_t)nt * sizeof *l->tbuf, "neighbour buffers");
-        l->tcap = sl_realloc(l->tcap, (size_t)nt * sizeof *l->tcap, "neighbour buffers");
-        l->tlen = sl_realloc(l->tlen, (size_t)nt * sizeof *l->tlen, "neighbour buffers");
-        for (int t = l->nthreads; t < nt; t++) {
-            l->tbuf[t] = NULL;
-            l->tcap[t] = 0;
+    if (nch > l->nbuf) {
+        l->buf = sl_realloc(l->buf, nch * sizeof *l->buf, "neighbour buffers");
+        l->bcap = sl_realloc(l->bcap, nch * sizeof *l->bcap, "neighbour buffers");
+        l->blen = sl_realloc(l->blen, nch * sizeof *l->blen, "neighbour buffers");
+        for (size_t c = l->nbuf; c < nch; c++) {
+            l->buf[c] = NULL;
+            l->bcap[c] = 0;
         }
-        l->nthreads = nt;
+        l->nbuf = nch;
     }
-    for (int t = 0; t < l->nthreads; t++) l->tlen[t] = 0;
+    for (size_t c = 0; c < l->nbuf; c++) l->blen[c] = 0;
     l->n = rows;
+    l->start[0] = 0;
 }
 
-/* Make room for `extra` more entries in thread t's buffer. */
-static inline void buf_reserve(nbr_list *l, int t, size_t extra)
+/* Room for `extra` more entries in chunk c's buffer, plus the slack of
+ * one vector that filter_range stores past the end. */
+static inline uint32_t *buf_reserve(nbr_list *l, size_t c, size_t extra)
 {
-    if (l->tlen[t] + extra > l->tcap[t]) {
-        size_t cap = 2 * (l->tlen[t] + extra) + 4096;
-        l->tbuf[t] = sl_realloc(l->tbuf[t], cap * sizeof *l->tbuf[t], "neighbour buffer");
-        l->tcap[t] = cap;
+    const size_t need = l->blen[c] + extra + 16;
+    if (need > l->bcap[c]) {
+        size_t cap = 2 * need + 4096;
+        l->buf[c] = sl_realloc(l->buf[c], cap * sizeof *l->buf[c], "neighbour buffer");
+        l->bcap[c] = cap;
     }
+    return l->buf[c];
 }
 
 /* Append to buf (at len) the indices j in [j0, j1) with |p - x_j|^2 < h2,
  * j != self; returns the new length.  The candidates are contiguous in
- * memory, so the distance test runs on vectors of them (AVX-512: with a
- * compress-store of the accepted indices). */
+ * memory, so the distance test runs on vectors of them (AVX-512: the
+ * row's tail under a mask, the accepted indices compressed in a register
+ * and stored whole: buf needs 8 entries of slack). */
 static inline size_t filter_range(uint32_t *restrict buf, size_t len, uint32_t j0, uint32_t j1,
                                   uint32_t self, double px, double py, double pz,
                                   const double *restrict tx, const double *restrict ty,
@@ -235,15 +305,19 @@ static inline size_t filter_range(uint32_t *restrict buf, size_t len, uint32_t j
     const __m512d vh2 = _mm512_set1_pd(h2);
     const __m256i step = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     const __m256i vself = _mm256_set1_epi32((int)self);
-    for (; j + 8 <= j1; j += 8) {
-        __m512d dx = _mm512_sub_pd(vpx, _mm512_loadu_pd(tx + j));
-        __m512d dy = _mm512_sub_pd(vpy, _mm512_loadu_pd(ty + j));
-        __m512d dz = _mm512_sub_pd(vpz, _mm512_loadu_pd(tz + j));
+    for (; j < j1; j += 8) {
+        const uint32_t left = j1 - j;
+        const __mmask8 m = left >= 8 ? (__mmask8)0xff : (__mmask8)((1u << left) - 1u);
+        __m512d dx = _mm512_sub_pd(vpx, _mm512_maskz_loadu_pd(m, tx + j));
+        __m512d dy = _mm512_sub_pd(vpy, _mm512_maskz_loadu_pd(m, ty + j));
+        __m512d dz = _mm512_sub_pd(vpz, _mm512_maskz_loadu_pd(m, tz + j));
         __m512d d2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
         __m256i idx = _mm256_add_epi32(_mm256_set1_epi32((int)j), step);
-        __mmask8 keep = _mm512_cmp_pd_mask(d2, vh2, _CMP_LT_OQ) &
+        __mmask8 keep = _mm512_mask_cmp_pd_mask(m, d2, vh2, _CMP_LT_OQ) &
                         (__mmask8)~_mm256_cmpeq_epi32_mask(idx, vself);
-        _mm256_mask_compressstoreu_epi32(buf + len, keep, idx);
+        __m256i kept = _mm256_maskz_compress_epi32(keep, idx);
+        __asm__("" : "+v"(kept)); /* keeps gcc from fusing a (slow) compress to memory */
+        _mm256_storeu_si256((__m256i *)(buf + len), kept);
         len += (size_t)__builtin_popcount(keep);
     }
 #endif
@@ -255,43 +329,27 @@ static inline size_t filter_range(uint32_t *restrict buf, size_t len, uint32_t j
     return len;
 }
 
-/* Appends to thread t's buffer the particles of the target set within h of
- * (px, py, pz), skipping index `self`; returns how many were appended.
- * The three cells of each neighbourhood row along x are one contiguous
- * range; candidates are written unconditionally and kept by advancing the
- * length (branch-free compaction). */
-static uint32_t gather(const nbr_grid *g, nbr_list *l, int t, const uint32_t *start,
-                       const double *tx, const double *ty, const double *tz,
-                       double px, double py, double pz, uint32_t self)
-{
-    int c[3];
-    const size_t len0 = l->tlen[t];
-    cell_of(g, px, py, pz, c);
-    const int R = g->reach;
-    const int x0 = c[0] > R ? c[0] - R : 0, x1 = c[0] + R < g->nc[0] ? c[0] + R : g->nc[0] - 1;
-    const int y0 = c[1] > R ? c[1] - R : 0, y1 = c[1] + R < g->nc[1] ? c[1] + R : g->nc[1] - 1;
-    const int z0 = c[2] > R ? c[2] - R : 0, z1 = c[2] + R < g->nc[2] ? c[2] + R : g->nc[2] - 1;
-    for (int cz = z0; cz <= z1; cz++) {
-        for (int cy = y0; cy <= y1; cy++) {
-            int a[3] = {x0, cy, cz}, b[3] = {x1, cy, cz};
-            const uint32_t j0 = start[rank_of(g, a)], j1 = start[rank_of(g, b) + 1];
-            buf_reserve(l, t, j1 - j0);
-            l->tlen[t] = filter_range(l->tbuf[t], l->tlen[t], j0, j1, self, px, py, pz, tx, ty,
-                                      tz, g->h2);
-        }
-    }
-    return (uint32_t)(l->tlen[t] - len0);
-}
+/* The candidate ranges around one cell: the cells of each neighbourhood
+ * row along x are one contiguous range of a sorted set. */
+#define NBR_MAX_ROWS 25 /* (2 reach + 1)^2 for reach <= 2 */
+_Static_assert(NBR_CELLS_PER_H <= 2, "NBR_MAX_ROWS assumes reach <= 2");
 
-/* Both rows of fluid particle i in one sweep over its cells: fluid
- * neighbours into l (thread t) and boundary neighbours into lb. */
-static void gather_both(const nbr_grid *g, nbr_list *l, nbr_list *lb, int t, const sl_fluid *f,
-                        const sl_boundary *b, uint32_t i)
+typedef struct cell_rows {
+    uint32_t rank;            /* the cell (UINT32_MAX: none yet) */
+    int n;
+    uint32_t ka[NBR_MAX_ROWS], ke[NBR_MAX_ROWS]; /* rank ranges [ka, ke) */
+} cell_rows;
+
+/* The rows of the cell of (px, py, pz), recomputed only when the cell
+ * differs from the one r holds (sorted particles share it). */
+static inline void rows_of(const nbr_grid *g, double px, double py, double pz, cell_rows *r)
 {
     int c[3];
-    const double px = f->x[i], py = f->y[i], pz = f->z[i];
-    const size_t len0 = l->tlen[t], blen0 = lb->tlen[t];
     cell_of(g, px, py, pz, c);
+    const uint32_t rank = rank_of(g, c);
+    if (rank == r->rank) return;
+    r->rank = rank;
+    r->n = 0;
     const int R = g->reach;
     const int x0 = c[0] > R ? c[0] - R : 0, x1 = c[0] + R < g->nc[0] ? c[0] + R : g->nc[0] - 1;
     const int y0 = c[1] > R ? c[1] - R : 0, y1 = c[1] + R < g->nc[1] ? c[1] + R : g->nc[1] - 1;
@@ -299,116 +357,159 @@ static void gather_both(const nbr_grid *g, nbr_list *l, nbr_list *lb, int t, con
     for (int cz = z0; cz <= z1; cz++)
         for (int cy = y0; cy <= y1; cy++) {
             int a[3] = {x0, cy, cz}, e[3] = {x1, cy, cz};
-            const uint32_t ka = rank_of(g, a), ke = rank_of(g, e) + 1;
-            uint32_t j0 = g->fstart[ka], j1 = g->fstart[ke];
-            buf_reserve(l, t, j1 - j0);
-            l->tlen[t] = filter_range(l->tbuf[t], l->tlen[t], j0, j1, i, px, py, pz, f->x, f->y,
-                                      f->z, g->h2);
-            j0 = g->bstart[ka];
-            j1 = g->bstart[ke];
-            if (j1 > j0) {
-                buf_reserve(lb, t, j1 - j0);
-                lb->tlen[t] = filter_range(lb->tbuf[t], lb->tlen[t], j0, j1, UINT32_MAX, px, py,
-                                           pz, b->x, b->y, b->z, g->h2);
-            }
+            r->ka[r->n] = rank_of(g, a);
+            r->ke[r->n] = rank_of(g, e) + 1;
+            r->n++;
         }
-    l->start[i + 1] = (uint32_t)(l->tlen[t] - len0);
-    lb->start[i + 1] = (uint32_t)(lb->tlen[t] - blen0);
 }
 
-/* Concatenate the thread buffers (thread order = particle order). */
-static void list_finish(nbr_list *l)
+/* Appends to chunk c's buffer the particles of the target set (cell
+ * starts `start`) within h of (px, py, pz), skipping index `self`;
+ * returns how many were appended. */
+static uint32_t gather(const nbr_grid *g, const cell_rows *r, nbr_list *l, size_t c,
+                       const uint32_t *start, const double *tx, const double *ty,
+                       const double *tz, double px, double py, double pz, uint32_t self)
+{
+    size_t cand = 0;
+    for (int k = 0; k < r->n; k++) cand += start[r->ke[k]] - start[r->ka[k]];
+    uint32_t *buf = buf_reserve(l, c, cand);
+    const size_t len0 = l->blen[c];
+    size_t len = len0;
+    for (int k = 0; k < r->n; k++)
+        len = filter_range(buf, len, start[r->ka[k]], start[r->ke[k]], self, px, py, pz, tx, ty,
+                           tz, g->h2);
+    l->blen[c] = len;
+    return (uint32_t)(len - len0);
+}
+
+/* Chunk c's rows [lo, hi). */
+static inline size_t chunk_lo(size_t c) { return c * NBR_CHUNK; }
+static inline size_t chunk_hi(size_t c, size_t rows)
+{
+    return (c + 1) * NBR_CHUNK < rows ? (c + 1) * NBR_CHUNK : rows;
+}
+
+/* After the rows: where each chunk's entries go (one thread); the index
+ * array grows when needed. */
+static void list_offsets(nbr_list *l)
 {
     size_t total = 0;
-    for (int t = 0; t < l->nthreads; t++) total += l->tlen[t];
+    const size_t nch = chunks_of(l->n);
+    for (size_t c = 0; c < nch; c++) {
+        const size_t len = l->blen[c];
+        l->blen[c] = total; /* from here on: the chunk's offset */
+        total += len;
+    }
     if (total > UINT32_MAX) sl_fatal("neighbour list exceeds 2^32 entries");
     if (total > l->idx_cap) {
         sl_free_aligned(l->idx);
         l->idx_cap = total + total / 4;
         l->idx = sl_alloc_aligned(l->idx_cap * sizeof *l->idx, "neighbour list");
     }
-    size_t off = 0;
-    for (int t = 0; t < l->nthreads; t++) {
-        if (l->tlen[t]) memcpy(l->idx + off, l->tbuf[t], l->tlen[t] * sizeof *l->idx);
-        off += l->tlen[t];
-    }
-    /* start[] holds counts in rows 1..n; turn them into offsets. */
-    l->start[0] = 0;
-    for (size_t i = 0; i < l->n; i++) l->start[i + 1] += l->start[i];
+    l->start[l->n] = (uint32_t)total;
 }
 
-/* Rows are split into one contiguous block per thread. */
-#define FOR_ROWS_BY_THREAD(l, rows, body)                                     \
-    _Pragma("omp parallel") {                                                 \
-        int t_ = omp_get_thread_num(), nt_ = omp_get_num_threads();           \
-        size_t lo_ = (rows) * (size_t)t_ / (size_t)nt_;                       \
-        size_t hi_ = (rows) * (size_t)(t_ + 1) / (size_t)nt_;                 \
-        for (size_t i = lo_; i < hi_; i++) { body }                           \
+/* Chunk c into place: its entries copied, its row counts (start[i] for
+ * row i while building) made offsets. */
+static void list_place(nbr_list *l, size_t c)
+{
+    const size_t lo = chunk_lo(c), hi = chunk_hi(c, l->n);
+    const size_t off = l->blen[c];
+    uint32_t acc = (uint32_t)off;
+    for (size_t i = lo; i < hi; i++) { /* start[i] held row i's count */
+        const uint32_t cnt = l->start[i];
+        l->start[i] = acc;
+        acc += cnt;
     }
+    if (acc > off) memcpy(l->idx + off, l->buf[c], (acc - off) * sizeof *l->idx);
+}
+
+/* Build the rows of list l (and lb, when not NULL) chunk by chunk: `row`
+ * (the macro's last argument, a block) fills row i of chunk c.  Chunks are taken by whichever thread is free
+ * (a delayed thread's work moves), yet each chunk's rows are the same
+ * whoever builds them, so the lists are identical for any thread count.
+ * One parallel region for the rows, the offsets and the copies. */
+#define BUILD_BY_CHUNKS(l, lb, rows, ...)                                          \
+    do {                                                                          \
+        const size_t n_ = (rows), nch_ = chunks_of(n_);                           \
+        list_prepare(l, n_);                                                      \
+        if (lb) list_prepare(lb, n_);                                             \
+        _Pragma("omp parallel")                                                   \
+        {                                                                         \
+            _Pragma("omp for schedule(dynamic, 1)")                               \
+            for (size_t c = 0; c < nch_; c++) {                                   \
+                cell_rows cr_ = {.rank = UINT32_MAX};                             \
+                for (size_t i = chunk_lo(c); i < chunk_hi(c, n_); i++) __VA_ARGS__ \
+            }                                                                     \
+            _Pragma("omp single")                                                 \
+            {                                                                     \
+                list_offsets(l);                                                  \
+                if (lb) list_offsets(lb);                                         \
+            }                                                                     \
+            _Pragma("omp for schedule(dynamic, 1)")                               \
+            for (size_t c = 0; c < nch_; c++) {                                   \
+                list_place(l, c);                                                 \
+                if (lb) list_place(lb, c);                                        \
+            }                                                                     \
+        }                                                                         \
+    } while (0)
 
 void nbr_build_ff(const nbr_grid *g, const sl_fluid *f, nbr_list *l)
 {
-    list_prepare(l, f->n);
-    FOR_ROWS_BY_THREAD(l, f->n, {
-        l->start[i + 1] = gather(g, l, t_, g->fstart, f->x, f->y, f->z,
-                                 f->x[i], f->y[i], f->z[i], (uint32_t)i);
-    })
-    list_finish(l);
+    nbr_list *none = NULL;
+    BUILD_BY_CHUNKS(l, none, f->n, {
+        rows_of(g, f->x[i], f->y[i], f->z[i], &cr_);
+        l->start[i] = gather(g, &cr_, l, c, g->fstart, f->x, f->y, f->z, f->x[i], f->y[i],
+                                 f->z[i], (uint32_t)i);
+    });
 }
 
 void nbr_build_fluid(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *ff,
                      nbr_list *fb)
 {
-    list_prepare(ff, f->n);
-    list_prepare(fb, f->n);
-    FOR_ROWS_BY_THREAD(ff, f->n, { gather_both(g, ff, fb, t_, f, b, (uint32_t)i); })
-    list_finish(ff);
-    list_finish(fb);
+    BUILD_BY_CHUNKS(ff, fb, f->n, {
+        const double px = f->x[i], py = f->y[i], pz = f->z[i];
+        rows_of(g, px, py, pz, &cr_);
+        ff->start[i] = gather(g, &cr_, ff, c, g->fstart, f->x, f->y, f->z, px, py, pz,
+                                  (uint32_t)i);
+        fb->start[i] = gather(g, &cr_, fb, c, g->bstart, b->x, b->y, b->z, px, py, pz,
+                                  UINT32_MAX);
+    });
 }
 
 void nbr_build_fb(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *l)
 {
-    list_prepare(l, f->n);
-    FOR_ROWS_BY_THREAD(l, f->n, {
-        l->start[i + 1] = gather(g, l, t_, g->bstart, b->x, b->y, b->z,
-                                 f->x[i], f->y[i], f->z[i], UINT32_MAX);
-    })
-    list_finish(l);
+    nbr_list *none = NULL;
+    BUILD_BY_CHUNKS(l, none, f->n, {
+        rows_of(g, f->x[i], f->y[i], f->z[i], &cr_);
+        l->start[i] = gather(g, &cr_, l, c, g->bstart, b->x, b->y, b->z, f->x[i], f->y[i],
+                                 f->z[i], UINT32_MAX);
+    });
 }
 
-/* True when some fluid particle sits in the cells within reach of (x, y, z). */
-static int fluid_nearby(const nbr_grid *g, double x, double y, double z)
+/* True when some fluid particle sits in the rows of r. */
+static int fluid_nearby(const nbr_grid *g, const cell_rows *r)
 {
-    int c[3];
-    cell_of(g, x, y, z, c);
-    const int R = g->reach;
-    const int x0 = c[0] > R ? c[0] - R : 0, x1 = c[0] + R < g->nc[0] ? c[0] + R : g->nc[0] - 1;
-    for (int cz = c[2] - R; cz <= c[2] + R; cz++) {
-        if (cz < 0 || cz >= g->nc[2]) continue;
-        for (int cy = c[1] - R; cy <= c[1] + R; cy++) {
-            if (cy < 0 || cy >= g->nc[1]) continue;
-            int a[3] = {x0, cy, cz}, b[3] = {x1, cy, cz};
-            if (g->fstart[rank_of(g, b) + 1] > g->fstart[rank_of(g, a)]) return 1;
-        }
-    }
+    for (int k = 0; k < r->n; k++)
+        if (g->fstart[r->ke[k]] > g->fstart[r->ka[k]]) return 1;
     return 0;
 }
 
 void nbr_build_bf(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *l,
                   uint32_t *active, size_t *nactive)
 {
-    list_prepare(l, b->n);
-    FOR_ROWS_BY_THREAD(l, b->n, {
-        l->start[i + 1] = fluid_nearby(g, b->x[i], b->y[i], b->z[i])
-                              ? gather(g, l, t_, g->fstart, f->x, f->y, f->z,
-                                       b->x[i], b->y[i], b->z[i], UINT32_MAX)
+    nbr_list *none = NULL;
+    BUILD_BY_CHUNKS(l, none, b->n, {
+        rows_of(g, b->x[i], b->y[i], b->z[i], &cr_);
+        l->start[i] = fluid_nearby(g, &cr_)
+                              ? gather(g, &cr_, l, c, g->fstart, f->x, f->y, f->z, b->x[i],
+                                       b->y[i], b->z[i], UINT32_MAX)
                               : 0;
-    })
+    });
     size_t na = 0;
     for (size_t i = 0; i < b->n; i++)
-        if (l->start[i + 1] > 0) active[na++] = (uint32_t)i;
+        if (l->start[i + 1] > l->start[i]) active[na++] = (uint32_t)i;
     *nactive = na;
-    list_finish(l);
 }
 
 void nbr_transpose(const nbr_list *fb, size_t nb, nbr_list *bf, uint32_t *active, size_t *nactive)
@@ -438,10 +539,10 @@ void nbr_transpose(const nbr_list *fb, size_t nb, nbr_list *bf, uint32_t *active
 
 void nbr_build_bb(const nbr_grid *g, const sl_boundary *b, nbr_list *l)
 {
-    list_prepare(l, b->n);
-    FOR_ROWS_BY_THREAD(l, b->n, {
-        l->start[i + 1] = gather(g, l, t_, g->bstart, b->x, b->y, b->z,
-                                 b->x[i], b->y[i], b->z[i], UINT32_MAX);
-    })
-    list_finish(l);
+    nbr_list *none = NULL;
+    BUILD_BY_CHUNKS(l, none, b->n, {
+        rows_of(g, b->x[i], b->y[i], b->z[i], &cr_);
+        l->start[i] = gather(g, &cr_, l, c, g->bstart, b->x, b->y, b->z, b->x[i], b->y[i],
+                                 b->z[i], UINT32_MAX);
+    });
 }
