@@ -24,6 +24,7 @@
 #include "case/case_restart.h"
 #include "core/sl_log.h"
 #include "core/sl_progress.h"
+#include "core/sl_threads.h"
 #include "functionObjects/fo.h"
 #include "io/time_dir.h"
 #include "solver/pcisph.h"
@@ -619,6 +620,7 @@ int main(int argc, char **argv)
 {
     const char *dir = ".";
     static run r;
+    sl_threads_passive(argv); /* before any parallel region */
     parse_args(&r, argc, argv, &dir);
     signal(SIGINT, on_stop);
     signal(SIGTERM, on_stop);
