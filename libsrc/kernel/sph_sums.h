@@ -222,4 +222,59 @@ static inline void sph_sum_pressure(const krn_kernel k, const uint32_t *restrict
 #endif
 }
 
+/* a += scale sum_j m_j Pi'_ij gradf(r_ij) x_ij, Pi'_ij = (v_ij . x_ij) /
+ * (r_ij^2 + eps_h2) for approaching pairs (v_ij . x_ij < 0), else 0: the
+ * artificial viscosity's sum (effects/viscosity.h), v_ij = v - v_j.
+ * mj == NULL means every m_j = 1. */
+static inline void sph_sum_viscosity(const krn_kernel k, const uint32_t *restrict idx,
+                                     uint32_t q0, uint32_t q1, const double p[3],
+                                     const double v[3], const double *restrict x,
+                                     const double *restrict y, const double *restrict z,
+                                     const double *restrict vx, const double *restrict vy,
+                                     const double *restrict vz, const double *restrict mj,
+                                     double eps_h2, double scale, double a[3])
+{
+#if SPH_SUMS_AVX512
+    const __m512d px = _mm512_set1_pd(p[0]), py = _mm512_set1_pd(p[1]), pz = _mm512_set1_pd(p[2]);
+    const __m512d ux = _mm512_set1_pd(v[0]), uy = _mm512_set1_pd(v[1]), uz = _mm512_set1_pd(v[2]);
+    const __m512d eps = _mm512_set1_pd(eps_h2), zero = _mm512_setzero_pd();
+    __m512d sx = zero, sy = zero, sz = zero, d[3];
+    for (uint32_t q = q0; q < q1; q += 8) {
+        const __mmask8 l = sph__lanes(q, q1);
+        const __m256i j = sph__idx(idx, q, l);
+        const __m512d r2 = sph__dist2(j, l, px, py, pz, x, y, z, d);
+        const __m512d wx = _mm512_sub_pd(ux, _mm512_mask_i32gather_pd(ux, l, j, vx, 8));
+        const __m512d wy = _mm512_sub_pd(uy, _mm512_mask_i32gather_pd(uy, l, j, vy, 8));
+        const __m512d wz = _mm512_sub_pd(uz, _mm512_mask_i32gather_pd(uz, l, j, vz, 8));
+        const __m512d vr = _mm512_fmadd_pd(wz, d[2], _mm512_fmadd_pd(wy, d[1],
+                                                                     _mm512_mul_pd(wx, d[0])));
+        const __mmask8 on = _mm512_mask_cmp_pd_mask(l, vr, zero, _CMP_LT_OQ);
+        __m512d c = _mm512_mul_pd(_mm512_div_pd(vr, _mm512_add_pd(r2, eps)), sph__gradf(&k, r2));
+        if (mj) c = _mm512_mul_pd(c, _mm512_mask_i32gather_pd(zero, l, j, mj, 8));
+        sx = _mm512_mask3_fmadd_pd(c, d[0], sx, on);
+        sy = _mm512_mask3_fmadd_pd(c, d[1], sy, on);
+        sz = _mm512_mask3_fmadd_pd(c, d[2], sz, on);
+    }
+    a[0] += scale * _mm512_reduce_add_pd(sx);
+    a[1] += scale * _mm512_reduce_add_pd(sy);
+    a[2] += scale * _mm512_reduce_add_pd(sz);
+#else
+    double ax = 0.0, ay = 0.0, az = 0.0;
+    for (uint32_t q = q0; q < q1; q++) {
+        const uint32_t j = idx[q];
+        const double dx = p[0] - x[j], dy = p[1] - y[j], dz = p[2] - z[j];
+        const double vr = (v[0] - vx[j]) * dx + (v[1] - vy[j]) * dy + (v[2] - vz[j]) * dz;
+        const double r2 = dx * dx + dy * dy + dz * dz;
+        const double pr = vr < 0.0 ? vr / (r2 + eps_h2) : 0.0;
+        const double c = (mj ? mj[j] : 1.0) * pr * krn_gradf(&k, sqrt(r2));
+        ax += c * dx;
+        ay += c * dy;
+        az += c * dz;
+    }
+    a[0] += scale * ax;
+    a[1] += scale * ay;
+    a[2] += scale * az;
+#endif
+}
+
 #endif

@@ -363,23 +363,50 @@ static inline void rows_of(const nbr_grid *g, double px, double py, double pz, c
         }
 }
 
-/* Appends to chunk c's buffer the particles of the target set (cell
- * starts `start`) within h of (px, py, pz), skipping index `self`;
- * returns how many were appended. */
-static uint32_t gather(const nbr_grid *g, const cell_rows *r, nbr_list *l, size_t c,
-                       const uint32_t *start, const double *tx, const double *ty,
-                       const double *tz, double px, double py, double pz, uint32_t self)
+/* A target set of a list: its cell starts and positions; `same` when it
+ * is the set the rows belong to (row i then skips j = i). */
+typedef struct nbr_targets {
+    const uint32_t *start;
+    const double *x, *y, *z;
+    int same;
+} nbr_targets;
+
+/* Rows handled together: particles of one cell share its candidate rows,
+ * so each row's trip counts repeat from particle to particle (the
+ * branches predict) and its candidates stay in L1. */
+#define NBR_BATCH 16
+
+/* Rows [i0, i1) (one cell, at most NBR_BATCH) of list l against target
+ * set t, into chunk c's buffer: each row first in a slot of its own (the
+ * cell's candidate count plus slack), then moved down to be contiguous;
+ * l->start[i] gets row i's count. */
+static void gather_batch(const nbr_grid *g, const cell_rows *r, nbr_list *l, size_t c,
+                         const nbr_targets *t, const double *px, const double *py,
+                         const double *pz, size_t i0, size_t i1)
 {
     size_t cand = 0;
-    for (int k = 0; k < r->n; k++) cand += start[r->ke[k]] - start[r->ka[k]];
-    uint32_t *buf = buf_reserve(l, c, cand);
-    const size_t len0 = l->blen[c];
-    size_t len = len0;
-    for (int k = 0; k < r->n; k++)
-        len = filter_range(buf, len, start[r->ka[k]], start[r->ke[k]], self, px, py, pz, tx, ty,
-                           tz, g->h2);
-    l->blen[c] = len;
-    return (uint32_t)(len - len0);
+    for (int k = 0; k < r->n; k++) cand += t->start[r->ke[k]] - t->start[r->ka[k]];
+    const size_t m = i1 - i0, stride = cand + 16, base = l->blen[c];
+    uint32_t *buf = buf_reserve(l, c, m * stride);
+    size_t len[NBR_BATCH];
+    for (size_t q = 0; q < m; q++) len[q] = base + q * stride;
+    for (int k = 0; k < r->n; k++) {
+        const uint32_t j0 = t->start[r->ka[k]], j1 = t->start[r->ke[k]];
+        if (j1 == j0) continue;
+        for (size_t q = 0; q < m; q++) {
+            const size_t i = i0 + q;
+            len[q] = filter_range(buf, len[q], j0, j1, t->same ? (uint32_t)i : UINT32_MAX, px[i],
+                                  py[i], pz[i], t->x, t->y, t->z, g->h2);
+        }
+    }
+    size_t out = base;
+    for (size_t q = 0; q < m; q++) {
+        const size_t from = base + q * stride, cnt = len[q] - from;
+        if (cnt && out != from) memmove(buf + out, buf + from, cnt * sizeof *buf);
+        l->start[i0 + q] = (uint32_t)cnt;
+        out += cnt;
+    }
+    l->blen[c] = out;
 }
 
 /* Chunk c's rows [lo, hi). */
@@ -416,7 +443,7 @@ static void list_place(nbr_list *l, size_t c)
     const size_t lo = chunk_lo(c), hi = chunk_hi(c, l->n);
     const size_t off = l->blen[c];
     uint32_t acc = (uint32_t)off;
-    for (size_t i = lo; i < hi; i++) { /* start[i] held row i's count */
+    for (size_t i = lo; i < hi; i++) {
         const uint32_t cnt = l->start[i];
         l->start[i] = acc;
         acc += cnt;
@@ -424,88 +451,92 @@ static void list_place(nbr_list *l, size_t c)
     if (acc > off) memcpy(l->idx + off, l->buf[c], (acc - off) * sizeof *l->idx);
 }
 
-/* Build the rows of list l (and lb, when not NULL) chunk by chunk: `row`
- * (the macro's last argument, a block) fills row i of chunk c.  Chunks are taken by whichever thread is free
- * (a delayed thread's work moves), yet each chunk's rows are the same
- * whoever builds them, so the lists are identical for any thread count.
- * One parallel region for the rows, the offsets and the copies. */
-#define BUILD_BY_CHUNKS(l, lb, rows, ...)                                          \
-    do {                                                                          \
-        const size_t n_ = (rows), nch_ = chunks_of(n_);                           \
-        list_prepare(l, n_);                                                      \
-        if (lb) list_prepare(lb, n_);                                             \
-        _Pragma("omp parallel")                                                   \
-        {                                                                         \
-            _Pragma("omp for schedule(dynamic, 1)")                               \
-            for (size_t c = 0; c < nch_; c++) {                                   \
-                cell_rows cr_ = {.rank = UINT32_MAX};                             \
-                for (size_t i = chunk_lo(c); i < chunk_hi(c, n_); i++) __VA_ARGS__ \
-            }                                                                     \
-            _Pragma("omp single")                                                 \
-            {                                                                     \
-                list_offsets(l);                                                  \
-                if (lb) list_offsets(lb);                                         \
-            }                                                                     \
-            _Pragma("omp for schedule(dynamic, 1)")                               \
-            for (size_t c = 0; c < nch_; c++) {                                   \
-                list_place(l, c);                                                 \
-                if (lb) list_place(lb, c);                                        \
-            }                                                                     \
-        }                                                                         \
-    } while (0)
+/* The rows of chunk c: runs of particles in one cell, in batches. */
+static void build_chunk(const nbr_grid *g, size_t n, const double *px, const double *py,
+                        const double *pz, nbr_list *l, const nbr_targets *tl, nbr_list *lb,
+                        const nbr_targets *tb, size_t c)
+{
+    cell_rows cr = {.rank = UINT32_MAX};
+    const size_t hi = chunk_hi(c, n);
+    for (size_t i = chunk_lo(c); i < hi;) {
+        rows_of(g, px[i], py[i], pz[i], &cr);
+        const uint32_t rank = cr.rank;
+        size_t e = i + 1;
+        while (e < hi && e - i < NBR_BATCH) {
+            int cc[3];
+            cell_of(g, px[e], py[e], pz[e], cc);
+            if (rank_of(g, cc) != rank) break;
+            e++;
+        }
+        gather_batch(g, &cr, l, c, tl, px, py, pz, i, e);
+        if (lb) gather_batch(g, &cr, lb, c, tb, px, py, pz, i, e);
+        i = e;
+    }
+}
+
+/* Lists l (targets tl) and lb (targets tb, when lb is not NULL) of the n
+ * rows at (px, py, pz), chunk by chunk.  Chunks are taken by whichever
+ * thread is free (a delayed thread's work moves), yet each chunk's rows
+ * are the same whoever builds them, so the lists are identical for any
+ * thread count.  One parallel region for the rows, the offsets and the
+ * copies. */
+static void build_lists(const nbr_grid *g, size_t n, const double *px, const double *py,
+                        const double *pz, nbr_list *l, nbr_targets tl, nbr_list *lb,
+                        nbr_targets tb)
+{
+    const size_t nch = chunks_of(n);
+    list_prepare(l, n);
+    if (lb) list_prepare(lb, n);
+#pragma omp parallel
+    {
+#pragma omp for schedule(dynamic, 1)
+        for (size_t c = 0; c < nch; c++) build_chunk(g, n, px, py, pz, l, &tl, lb, &tb, c);
+#pragma omp single
+        {
+            list_offsets(l);
+            if (lb) list_offsets(lb);
+        }
+#pragma omp for schedule(dynamic, 1)
+        for (size_t c = 0; c < nch; c++) {
+            list_place(l, c);
+            if (lb) list_place(lb, c);
+        }
+    }
+}
+
+static nbr_targets fluid_targets(const nbr_grid *g, const sl_fluid *f, int same)
+{
+    return (nbr_targets){g->fstart, f->x, f->y, f->z, same};
+}
+
+static nbr_targets boundary_targets(const nbr_grid *g, const sl_boundary *b, int same)
+{
+    return (nbr_targets){g->bstart, b->x, b->y, b->z, same};
+}
 
 void nbr_build_ff(const nbr_grid *g, const sl_fluid *f, nbr_list *l)
 {
-    nbr_list *none = NULL;
-    BUILD_BY_CHUNKS(l, none, f->n, {
-        rows_of(g, f->x[i], f->y[i], f->z[i], &cr_);
-        l->start[i] = gather(g, &cr_, l, c, g->fstart, f->x, f->y, f->z, f->x[i], f->y[i],
-                                 f->z[i], (uint32_t)i);
-    });
+    build_lists(g, f->n, f->x, f->y, f->z, l, fluid_targets(g, f, 1), NULL,
+                (nbr_targets){0});
 }
 
 void nbr_build_fluid(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *ff,
                      nbr_list *fb)
 {
-    BUILD_BY_CHUNKS(ff, fb, f->n, {
-        const double px = f->x[i], py = f->y[i], pz = f->z[i];
-        rows_of(g, px, py, pz, &cr_);
-        ff->start[i] = gather(g, &cr_, ff, c, g->fstart, f->x, f->y, f->z, px, py, pz,
-                                  (uint32_t)i);
-        fb->start[i] = gather(g, &cr_, fb, c, g->bstart, b->x, b->y, b->z, px, py, pz,
-                                  UINT32_MAX);
-    });
+    build_lists(g, f->n, f->x, f->y, f->z, ff, fluid_targets(g, f, 1), fb,
+                boundary_targets(g, b, 0));
 }
 
 void nbr_build_fb(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *l)
 {
-    nbr_list *none = NULL;
-    BUILD_BY_CHUNKS(l, none, f->n, {
-        rows_of(g, f->x[i], f->y[i], f->z[i], &cr_);
-        l->start[i] = gather(g, &cr_, l, c, g->bstart, b->x, b->y, b->z, f->x[i], f->y[i],
-                                 f->z[i], UINT32_MAX);
-    });
-}
-
-/* True when some fluid particle sits in the rows of r. */
-static int fluid_nearby(const nbr_grid *g, const cell_rows *r)
-{
-    for (int k = 0; k < r->n; k++)
-        if (g->fstart[r->ke[k]] > g->fstart[r->ka[k]]) return 1;
-    return 0;
+    build_lists(g, f->n, f->x, f->y, f->z, l, boundary_targets(g, b, 0), NULL,
+                (nbr_targets){0});
 }
 
 void nbr_build_bf(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *l,
                   uint32_t *active, size_t *nactive)
 {
-    nbr_list *none = NULL;
-    BUILD_BY_CHUNKS(l, none, b->n, {
-        rows_of(g, b->x[i], b->y[i], b->z[i], &cr_);
-        l->start[i] = fluid_nearby(g, &cr_)
-                              ? gather(g, &cr_, l, c, g->fstart, f->x, f->y, f->z, b->x[i],
-                                       b->y[i], b->z[i], UINT32_MAX)
-                              : 0;
-    });
+    build_lists(g, b->n, b->x, b->y, b->z, l, fluid_targets(g, f, 0), NULL, (nbr_targets){0});
     size_t na = 0;
     for (size_t i = 0; i < b->n; i++)
         if (l->start[i + 1] > l->start[i]) active[na++] = (uint32_t)i;
@@ -539,10 +570,6 @@ void nbr_transpose(const nbr_list *fb, size_t nb, nbr_list *bf, uint32_t *active
 
 void nbr_build_bb(const nbr_grid *g, const sl_boundary *b, nbr_list *l)
 {
-    nbr_list *none = NULL;
-    BUILD_BY_CHUNKS(l, none, b->n, {
-        rows_of(g, b->x[i], b->y[i], b->z[i], &cr_);
-        l->start[i] = gather(g, &cr_, l, c, g->bstart, b->x, b->y, b->z, b->x[i], b->y[i],
-                                 b->z[i], UINT32_MAX);
-    });
+    build_lists(g, b->n, b->x, b->y, b->z, l, boundary_targets(g, b, 0), NULL,
+                (nbr_targets){0});
 }
