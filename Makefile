@@ -99,7 +99,7 @@ demo:
 	$(MAKE) all
 	@etc/runDemo
 
-bench: $(BIN)/benchPcisph
+bench: $(BIN)/benchPcisph $(BIN)/pcisph
 	@tests/bench/run_bench $(BIN)
 
 bench-timestep: $(BIN)/pcisph

@@ -167,6 +167,23 @@ void nbr_sort_boundary(nbr_grid *g, sl_boundary *b)
     prt_boundary_permute(b, g->bperm);
 }
 
+/* The counting sort of sort_by_cell after the cells are known: start
+ * (ncells + 1) and perm (new index -> old index).  Stable. */
+static void count_by_cell(nbr_grid *g, size_t n, const uint32_t *cellv, uint32_t *start,
+                          uint32_t *perm)
+{
+    memset(g->count, 0, (g->ncells + 1) * sizeof *g->count);
+    for (size_t i = 0; i < n; i++) g->count[cellv[i] + 1]++;
+    start[0] = 0;
+    for (size_t k = 0; k < g->ncells; k++) start[k + 1] = start[k] + g->count[k + 1];
+    memcpy(g->count, start, g->ncells * sizeof *g->count);
+    for (size_t i = 0; i < n; i++) perm[g->count[cellv[i]]++] = (uint32_t)i;
+}
+
+/* One parallel region (each costs a barrier, and a busy machine makes
+ * barriers dear): cells, counting sort, order within the cells by id,
+ * then the state fields gathered into their spares (particles.h) and the
+ * pointers swapped; f->cell ends in the new order. */
 void nbr_sort_fluid(nbr_grid *g, sl_fluid *f)
 {
     if (g->perm_cap < f->cap) {
@@ -174,10 +191,54 @@ void nbr_sort_fluid(nbr_grid *g, sl_fluid *f)
         g->perm = sl_alloc_aligned(f->cap * sizeof *g->perm, "fluid permutation");
         g->perm_cap = f->cap;
     }
-    sort_by_cell(g, f->n, f->x, f->y, f->z, f->cell, g->fstart, g->perm);
-    /* key (cell, global id): the order does not depend on the previous one */
-    order_cells_by_id(g, g->fstart, g->perm, f->id);
-    prt_fluid_permute(f, g->perm);
+    double **state[PRT_STATE_PAIRS], **spare[PRT_STATE_PAIRS];
+    const int npairs = prt_fluid_state_pairs(f, state, spare);
+    const size_t n = f->n;
+    uint32_t *restrict perm = g->perm, *restrict cellv = f->cell, *restrict start = g->fstart;
+    const double *restrict x = f->x, *restrict y = f->y, *restrict z = f->z;
+#pragma omp parallel
+    {
+#pragma omp for schedule(static)
+        for (size_t i = 0; i < n; i++) {
+            int c[3];
+            cell_of(g, x[i], y[i], z[i], c);
+            cellv[i] = rank_of(g, c);
+        }
+#pragma omp single
+        count_by_cell(g, n, cellv, start, perm);
+        /* key (cell, global id): the order does not depend on the previous one */
+#pragma omp for schedule(dynamic, 256)
+        for (size_t k = 0; k < g->ncells; k++) {
+            uint32_t *seg = perm + start[k];
+            const uint32_t len = start[k + 1] - start[k];
+            for (uint32_t a = 1; a < len; a++) {
+                uint32_t v = seg[a], q = a;
+                while (q > 0 && f->id[seg[q - 1]] > f->id[v]) { seg[q] = seg[q - 1]; q--; }
+                seg[q] = v;
+            }
+            for (uint32_t a = 0; a < len; a++) cellv[start[k] + a] = (uint32_t)k;
+        }
+        for (int p = 0; p < npairs; p++) {
+            const double *restrict from = *state[p];
+            double *restrict to = *spare[p];
+#pragma omp for schedule(static) nowait
+            for (size_t i = 0; i < n; i++) to[i] = from[perm[i]];
+        }
+        {
+            const uint32_t *restrict from = f->id;
+            uint32_t *restrict to = f->scratch_u;
+#pragma omp for schedule(static)
+            for (size_t i = 0; i < n; i++) to[i] = from[perm[i]];
+        }
+    }
+    for (int p = 0; p < npairs; p++) {
+        double *t = *state[p];
+        *state[p] = *spare[p];
+        *spare[p] = t;
+    }
+    uint32_t *t = f->id;
+    f->id = f->scratch_u;
+    f->scratch_u = t;
 }
 
 /* ---- neighbour lists ---- */
@@ -188,49 +249,58 @@ void nbr_list_free(nbr_list *l)
 {
     sl_free_aligned(l->start);
     sl_free_aligned(l->idx);
-    for (int t = 0; t < l->nthreads; t++) free(l->tbuf[t]);
-    free(l->tbuf);
-    free(l->tcap);
-    free(l->tlen);
+    for (size_t c = 0; c < l->nbuf; c++) free(l->buf[c]);
+    free(l->buf);
+    free(l->bcap);
+    free(l->blen);
     memset(l, 0, sizeof *l);
 }
 
+static size_t chunks_of(size_t rows) { return (rows + NBR_CHUNK - 1) / NBR_CHUNK; }
+
+/* Rows and chunk buffers for `rows` rows.  Buffers are kept from build to
+ * build: they grow only when a chunk finds more neighbours than ever before. */
 static void list_prepare(nbr_list *l, size_t rows)
 {
-    int nt = omp_get_max_threads();
+    const size_t nch = chunks_of(rows);
     if (rows + 1 > l->rows_cap) {
         sl_free_aligned(l->start);
         l->rows_cap = rows + 1 + rows / 4;
         l->start = sl_alloc_aligned(l->rows_cap * sizeof *l->start, "neighbour list rows");
     }
-    if (nt > l->nthreads) {
-        l->tbuf = sl_realloc(l->tbuf, (size_t)nt * sizeof *l->tbuf, "neighbour buffers");
-        l->tcap = sl_realloc(l->tcap, (size_t)nt * sizeof *l->tcap, "neighbour buffers");
-        l->tlen = sl_realloc(l->tlen, (size_t)nt * sizeof *l->tlen, "neighbour buffers");
-        for (int t = l->nthreads; t < nt; t++) {
-            l->tbuf[t] = NULL;
-            l->tcap[t] = 0;
+    if (nch > l->nbuf) {
+        l->buf = sl_realloc(l->buf, nch * sizeof *l->buf, "neighbour buffers");
+        l->bcap = sl_realloc(l->bcap, nch * sizeof *l->bcap, "neighbour buffers");
+        l->blen = sl_realloc(l->blen, nch * sizeof *l->blen, "neighbour buffers");
+        for (size_t c = l->nbuf; c < nch; c++) {
+            l->buf[c] = NULL;
+            l->bcap[c] = 0;
         }
-        l->nthreads = nt;
+        l->nbuf = nch;
     }
-    for (int t = 0; t < l->nthreads; t++) l->tlen[t] = 0;
+    for (size_t c = 0; c < l->nbuf; c++) l->blen[c] = 0;
     l->n = rows;
+    l->start[0] = 0;
 }
 
-/* Make room for `extra` more entries in thread t's buffer. */
-static inline void buf_reserve(nbr_list *l, int t, size_t extra)
+/* Room for `extra` more entries in chunk c's buffer, plus the slack of
+ * one vector that filter_range stores past the end. */
+static inline uint32_t *buf_reserve(nbr_list *l, size_t c, size_t extra)
 {
-    if (l->tlen[t] + extra > l->tcap[t]) {
-        size_t cap = 2 * (l->tlen[t] + extra) + 4096;
-        l->tbuf[t] = sl_realloc(l->tbuf[t], cap * sizeof *l->tbuf[t], "neighbour buffer");
-        l->tcap[t] = cap;
+    const size_t need = l->blen[c] + extra + 16;
+    if (need > l->bcap[c]) {
+        size_t cap = 2 * need + 4096;
+        l->buf[c] = sl_realloc(l->buf[c], cap * sizeof *l->buf[c], "neighbour buffer");
+        l->bcap[c] = cap;
     }
+    return l->buf[c];
 }
 
 /* Append to buf (at len) the indices j in [j0, j1) with |p - x_j|^2 < h2,
  * j != self; returns the new length.  The candidates are contiguous in
- * memory, so the distance test runs on vectors of them (AVX-512: with a
- * compress-store of the accepted indices). */
+ * memory, so the distance test runs on vectors of them (AVX-512: the
+ * row's tail under a mask, the accepted indices compressed in a register
+ * and stored whole: buf needs 8 entries of slack). */
 static inline size_t filter_range(uint32_t *restrict buf, size_t len, uint32_t j0, uint32_t j1,
                                   uint32_t self, double px, double py, double pz,
                                   const double *restrict tx, const double *restrict ty,
@@ -242,15 +312,19 @@ static inline size_t filter_range(uint32_t *restrict buf, size_t len, uint32_t j
     const __m512d vh2 = _mm512_set1_pd(h2);
     const __m256i step = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     const __m256i vself = _mm256_set1_epi32((int)self);
-    for (; j + 8 <= j1; j += 8) {
-        __m512d dx = _mm512_sub_pd(vpx, _mm512_loadu_pd(tx + j));
-        __m512d dy = _mm512_sub_pd(vpy, _mm512_loadu_pd(ty + j));
-        __m512d dz = _mm512_sub_pd(vpz, _mm512_loadu_pd(tz + j));
+    for (; j < j1; j += 8) {
+        const uint32_t left = j1 - j;
+        const __mmask8 m = left >= 8 ? (__mmask8)0xff : (__mmask8)((1u << left) - 1u);
+        __m512d dx = _mm512_sub_pd(vpx, _mm512_maskz_loadu_pd(m, tx + j));
+        __m512d dy = _mm512_sub_pd(vpy, _mm512_maskz_loadu_pd(m, ty + j));
+        __m512d dz = _mm512_sub_pd(vpz, _mm512_maskz_loadu_pd(m, tz + j));
         __m512d d2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
         __m256i idx = _mm256_add_epi32(_mm256_set1_epi32((int)j), step);
-        __mmask8 keep = _mm512_cmp_pd_mask(d2, vh2, _CMP_LT_OQ) &
+        __mmask8 keep = _mm512_mask_cmp_pd_mask(m, d2, vh2, _CMP_LT_OQ) &
                         (__mmask8)~_mm256_cmpeq_epi32_mask(idx, vself);
-        _mm256_mask_compressstoreu_epi32(buf + len, keep, idx);
+        __m256i kept = _mm256_maskz_compress_epi32(keep, idx);
+        __asm__("" : "+v"(kept)); /* keeps gcc from fusing a (slow) compress to memory */
+        _mm256_storeu_si256((__m256i *)(buf + len), kept);
         len += (size_t)__builtin_popcount(keep);
     }
 #endif
@@ -262,43 +336,27 @@ static inline size_t filter_range(uint32_t *restrict buf, size_t len, uint32_t j
     return len;
 }
 
-/* Appends to thread t's buffer the particles of the target set within h of
- * (px, py, pz), skipping index `self`; returns how many were appended.
- * The three cells of each neighbourhood row along x are one contiguous
- * range; candidates are written unconditionally and kept by advancing the
- * length (branch-free compaction). */
-static uint32_t gather(const nbr_grid *g, nbr_list *l, int t, const uint32_t *start,
-                       const double *tx, const double *ty, const double *tz,
-                       double px, double py, double pz, uint32_t self)
-{
-    int c[3];
-    const size_t len0 = l->tlen[t];
-    cell_of(g, px, py, pz, c);
-    const int R = g->reach;
-    const int x0 = c[0] > R ? c[0] - R : 0, x1 = c[0] + R < g->nc[0] ? c[0] + R : g->nc[0] - 1;
-    const int y0 = c[1] > R ? c[1] - R : 0, y1 = c[1] + R < g->nc[1] ? c[1] + R : g->nc[1] - 1;
-    const int z0 = c[2] > R ? c[2] - R : 0, z1 = c[2] + R < g->nc[2] ? c[2] + R : g->nc[2] - 1;
-    for (int cz = z0; cz <= z1; cz++) {
-        for (int cy = y0; cy <= y1; cy++) {
-            int a[3] = {x0, cy, cz}, b[3] = {x1, cy, cz};
-            const uint32_t j0 = start[rank_of(g, a)], j1 = start[rank_of(g, b) + 1];
-            buf_reserve(l, t, j1 - j0);
-            l->tlen[t] = filter_range(l->tbuf[t], l->tlen[t], j0, j1, self, px, py, pz, tx, ty,
-                                      tz, g->h2);
-        }
-    }
-    return (uint32_t)(l->tlen[t] - len0);
-}
+/* The candidate ranges around one cell: the cells of each neighbourhood
+ * row along x are one contiguous range of a sorted set. */
+#define NBR_MAX_ROWS 25 /* (2 reach + 1)^2 for reach <= 2 */
+_Static_assert(NBR_CELLS_PER_H <= 2, "NBR_MAX_ROWS assumes reach <= 2");
 
-/* Both rows of fluid particle i in one sweep over its cells: fluid
- * neighbours into l (thread t) and boundary neighbours into lb. */
-static void gather_both(const nbr_grid *g, nbr_list *l, nbr_list *lb, int t, const sl_fluid *f,
-                        const sl_boundary *b, uint32_t i)
+typedef struct cell_rows {
+    uint32_t rank;            /* the cell (UINT32_MAX: none yet) */
+    int n;
+    uint32_t ka[NBR_MAX_ROWS], ke[NBR_MAX_ROWS]; /* rank ranges [ka, ke) */
+} cell_rows;
+
+/* The rows of the cell of (px, py, pz), recomputed only when the cell
+ * differs from the one r holds (sorted particles share it). */
+static inline void rows_of(const nbr_grid *g, double px, double py, double pz, cell_rows *r)
 {
     int c[3];
-    const double px = f->x[i], py = f->y[i], pz = f->z[i];
-    const size_t len0 = l->tlen[t], blen0 = lb->tlen[t];
     cell_of(g, px, py, pz, c);
+    const uint32_t rank = rank_of(g, c);
+    if (rank == r->rank) return;
+    r->rank = rank;
+    r->n = 0;
     const int R = g->reach;
     const int x0 = c[0] > R ? c[0] - R : 0, x1 = c[0] + R < g->nc[0] ? c[0] + R : g->nc[0] - 1;
     const int y0 = c[1] > R ? c[1] - R : 0, y1 = c[1] + R < g->nc[1] ? c[1] + R : g->nc[1] - 1;
@@ -306,124 +364,200 @@ static void gather_both(const nbr_grid *g, nbr_list *l, nbr_list *lb, int t, con
     for (int cz = z0; cz <= z1; cz++)
         for (int cy = y0; cy <= y1; cy++) {
             int a[3] = {x0, cy, cz}, e[3] = {x1, cy, cz};
-            const uint32_t ka = rank_of(g, a), ke = rank_of(g, e) + 1;
-            uint32_t j0 = g->fstart[ka], j1 = g->fstart[ke];
-            buf_reserve(l, t, j1 - j0);
-            l->tlen[t] = filter_range(l->tbuf[t], l->tlen[t], j0, j1, i, px, py, pz, f->x, f->y,
-                                      f->z, g->h2);
-            if (g->hstart && f->nhalo) { /* halo copies of the row's cells */
-                j0 = g->hstart[ka];
-                j1 = g->hstart[ke];
-                buf_reserve(l, t, j1 - j0);
-                l->tlen[t] = filter_range(l->tbuf[t], l->tlen[t], j0, j1, i, px, py, pz, f->x,
-                                          f->y, f->z, g->h2);
-            }
-            j0 = g->bstart[ka];
-            j1 = g->bstart[ke];
-            if (j1 > j0) {
-                buf_reserve(lb, t, j1 - j0);
-                lb->tlen[t] = filter_range(lb->tbuf[t], lb->tlen[t], j0, j1, UINT32_MAX, px, py,
-                                           pz, b->x, b->y, b->z, g->h2);
-            }
+            r->ka[r->n] = rank_of(g, a);
+            r->ke[r->n] = rank_of(g, e) + 1;
+            r->n++;
         }
-    l->start[i + 1] = (uint32_t)(l->tlen[t] - len0);
-    lb->start[i + 1] = (uint32_t)(lb->tlen[t] - blen0);
 }
 
-/* Concatenate the thread buffers (thread order = particle order). */
-static void list_finish(nbr_list *l)
+/* A target set of a list: its cell starts and positions; `same` when it
+ * is the set the rows belong to (row i then skips j = i). */
+typedef struct nbr_targets {
+    const uint32_t *start;
+    const uint32_t *start2; /* a second set over the same positions (periodic images), or NULL */
+    const double *x, *y, *z;
+    int same;
+} nbr_targets;
+
+/* Rows handled together: particles of one cell share its candidate rows,
+ * so each row's trip counts repeat from particle to particle (the
+ * branches predict) and its candidates stay in L1. */
+#define NBR_BATCH 16
+
+/* Rows [i0, i1) (one cell, at most NBR_BATCH) of list l against target
+ * set t, into chunk c's buffer: each row first in a slot of its own (the
+ * cell's candidate count plus slack), then moved down to be contiguous;
+ * l->start[i] gets row i's count. */
+static void gather_batch(const nbr_grid *g, const cell_rows *r, nbr_list *l, size_t c,
+                         const nbr_targets *t, const double *px, const double *py,
+                         const double *pz, size_t i0, size_t i1)
+{
+    size_t cand = 0;
+    for (int k = 0; k < r->n; k++) {
+        cand += t->start[r->ke[k]] - t->start[r->ka[k]];
+        if (t->start2) cand += t->start2[r->ke[k]] - t->start2[r->ka[k]];
+    }
+    const size_t m = i1 - i0, stride = cand + 16, base = l->blen[c];
+    uint32_t *buf = buf_reserve(l, c, m * stride);
+    size_t len[NBR_BATCH];
+    for (size_t q = 0; q < m; q++) len[q] = base + q * stride;
+    for (int k = 0; k < r->n; k++) {
+        for (int set = 0; set < (t->start2 ? 2 : 1); set++) { /* a row's own, then its images */
+            const uint32_t *st = set ? t->start2 : t->start;
+            const uint32_t j0 = st[r->ka[k]], j1 = st[r->ke[k]];
+            if (j1 == j0) continue;
+            for (size_t q = 0; q < m; q++) {
+                const size_t i = i0 + q;
+                len[q] = filter_range(buf, len[q], j0, j1, t->same ? (uint32_t)i : UINT32_MAX,
+                                      px[i], py[i], pz[i], t->x, t->y, t->z, g->h2);
+            }
+        }
+    }
+    size_t out = base;
+    for (size_t q = 0; q < m; q++) {
+        const size_t from = base + q * stride, cnt = len[q] - from;
+        if (cnt && out != from) memmove(buf + out, buf + from, cnt * sizeof *buf);
+        l->start[i0 + q] = (uint32_t)cnt;
+        out += cnt;
+    }
+    l->blen[c] = out;
+}
+
+/* Chunk c's rows [lo, hi). */
+static inline size_t chunk_lo(size_t c) { return c * NBR_CHUNK; }
+static inline size_t chunk_hi(size_t c, size_t rows)
+{
+    return (c + 1) * NBR_CHUNK < rows ? (c + 1) * NBR_CHUNK : rows;
+}
+
+/* After the rows: where each chunk's entries go (one thread); the index
+ * array grows when needed. */
+static void list_offsets(nbr_list *l)
 {
     size_t total = 0;
-    for (int t = 0; t < l->nthreads; t++) total += l->tlen[t];
+    const size_t nch = chunks_of(l->n);
+    for (size_t c = 0; c < nch; c++) {
+        const size_t len = l->blen[c];
+        l->blen[c] = total; /* from here on: the chunk's offset */
+        total += len;
+    }
     if (total > UINT32_MAX) sl_fatal("neighbour list exceeds 2^32 entries");
     if (total > l->idx_cap) {
         sl_free_aligned(l->idx);
         l->idx_cap = total + total / 4;
         l->idx = sl_alloc_aligned(l->idx_cap * sizeof *l->idx, "neighbour list");
     }
-    size_t off = 0;
-    for (int t = 0; t < l->nthreads; t++) {
-        if (l->tlen[t]) memcpy(l->idx + off, l->tbuf[t], l->tlen[t] * sizeof *l->idx);
-        off += l->tlen[t];
-    }
-    /* start[] holds counts in rows 1..n; turn them into offsets. */
-    l->start[0] = 0;
-    for (size_t i = 0; i < l->n; i++) l->start[i + 1] += l->start[i];
+    l->start[l->n] = (uint32_t)total;
 }
 
-/* Rows are split into one contiguous block per thread. */
-#define FOR_ROWS_BY_THREAD(l, rows, body)                                     \
-    _Pragma("omp parallel") {                                                 \
-        int t_ = omp_get_thread_num(), nt_ = omp_get_num_threads();           \
-        size_t lo_ = (rows) * (size_t)t_ / (size_t)nt_;                       \
-        size_t hi_ = (rows) * (size_t)(t_ + 1) / (size_t)nt_;                 \
-        for (size_t i = lo_; i < hi_; i++) { body }                           \
+/* Chunk c into place: its entries copied, its row counts (start[i] for
+ * row i while building) made offsets. */
+static void list_place(nbr_list *l, size_t c)
+{
+    const size_t lo = chunk_lo(c), hi = chunk_hi(c, l->n);
+    const size_t off = l->blen[c];
+    uint32_t acc = (uint32_t)off;
+    for (size_t i = lo; i < hi; i++) {
+        const uint32_t cnt = l->start[i];
+        l->start[i] = acc;
+        acc += cnt;
     }
+    if (acc > off) memcpy(l->idx + off, l->buf[c], (acc - off) * sizeof *l->idx);
+}
+
+/* The rows of chunk c: runs of particles in one cell, in batches. */
+static void build_chunk(const nbr_grid *g, size_t n, const double *px, const double *py,
+                        const double *pz, nbr_list *l, const nbr_targets *tl, nbr_list *lb,
+                        const nbr_targets *tb, size_t c)
+{
+    cell_rows cr = {.rank = UINT32_MAX};
+    const size_t hi = chunk_hi(c, n);
+    for (size_t i = chunk_lo(c); i < hi;) {
+        rows_of(g, px[i], py[i], pz[i], &cr);
+        const uint32_t rank = cr.rank;
+        size_t e = i + 1;
+        while (e < hi && e - i < NBR_BATCH) {
+            int cc[3];
+            cell_of(g, px[e], py[e], pz[e], cc);
+            if (rank_of(g, cc) != rank) break;
+            e++;
+        }
+        gather_batch(g, &cr, l, c, tl, px, py, pz, i, e);
+        if (lb) gather_batch(g, &cr, lb, c, tb, px, py, pz, i, e);
+        i = e;
+    }
+}
+
+/* Lists l (targets tl) and lb (targets tb, when lb is not NULL) of the n
+ * rows at (px, py, pz), chunk by chunk.  Chunks are taken by whichever
+ * thread is free (a delayed thread's work moves), yet each chunk's rows
+ * are the same whoever builds them, so the lists are identical for any
+ * thread count.  One parallel region for the rows, the offsets and the
+ * copies. */
+static void build_lists(const nbr_grid *g, size_t n, const double *px, const double *py,
+                        const double *pz, nbr_list *l, nbr_targets tl, nbr_list *lb,
+                        nbr_targets tb)
+{
+    const size_t nch = chunks_of(n);
+    list_prepare(l, n);
+    if (lb) list_prepare(lb, n);
+#pragma omp parallel
+    {
+#pragma omp for schedule(dynamic, 1)
+        for (size_t c = 0; c < nch; c++) build_chunk(g, n, px, py, pz, l, &tl, lb, &tb, c);
+#pragma omp single
+        {
+            list_offsets(l);
+            if (lb) list_offsets(lb);
+        }
+#pragma omp for schedule(dynamic, 1)
+        for (size_t c = 0; c < nch; c++) {
+            list_place(l, c);
+            if (lb) list_place(lb, c);
+        }
+    }
+}
+
+static nbr_targets fluid_targets(const nbr_grid *g, const sl_fluid *f, int same)
+{
+    return (nbr_targets){.start = g->fstart, .x = f->x, .y = f->y, .z = f->z, .same = same};
+}
+
+static nbr_targets boundary_targets(const nbr_grid *g, const sl_boundary *b, int same)
+{
+    return (nbr_targets){.start = g->bstart, .x = b->x, .y = b->y, .z = b->z, .same = same};
+}
 
 void nbr_build_ff(const nbr_grid *g, const sl_fluid *f, nbr_list *l)
 {
-    list_prepare(l, f->n);
-    FOR_ROWS_BY_THREAD(l, f->n, {
-        l->start[i + 1] = gather(g, l, t_, g->fstart, f->x, f->y, f->z,
-                                 f->x[i], f->y[i], f->z[i], (uint32_t)i);
-    })
-    list_finish(l);
+    build_lists(g, f->n, f->x, f->y, f->z, l, fluid_targets(g, f, 1), NULL,
+                (nbr_targets){0});
 }
 
 void nbr_build_fluid(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *ff,
                      nbr_list *fb)
 {
-    const size_t rows = f->n + f->nhalo;
-    list_prepare(ff, rows);
-    list_prepare(fb, rows);
-    FOR_ROWS_BY_THREAD(ff, rows, { gather_both(g, ff, fb, t_, f, b, (uint32_t)i); })
-    list_finish(ff);
-    list_finish(fb);
+    /* the rows of the periodic images too (they feed the boundary rows), and
+     * each row's candidates among the images after its own */
+    nbr_targets tf = fluid_targets(g, f, 1);
+    if (f->nhalo && g->hstart) tf.start2 = g->hstart;
+    build_lists(g, f->n + f->nhalo, f->x, f->y, f->z, ff, tf, fb, boundary_targets(g, b, 0));
 }
 
 void nbr_build_fb(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *l)
 {
-    list_prepare(l, f->n);
-    FOR_ROWS_BY_THREAD(l, f->n, {
-        l->start[i + 1] = gather(g, l, t_, g->bstart, b->x, b->y, b->z,
-                                 f->x[i], f->y[i], f->z[i], UINT32_MAX);
-    })
-    list_finish(l);
-}
-
-/* True when some fluid particle sits in the cells within reach of (x, y, z). */
-static int fluid_nearby(const nbr_grid *g, double x, double y, double z)
-{
-    int c[3];
-    cell_of(g, x, y, z, c);
-    const int R = g->reach;
-    const int x0 = c[0] > R ? c[0] - R : 0, x1 = c[0] + R < g->nc[0] ? c[0] + R : g->nc[0] - 1;
-    for (int cz = c[2] - R; cz <= c[2] + R; cz++) {
-        if (cz < 0 || cz >= g->nc[2]) continue;
-        for (int cy = c[1] - R; cy <= c[1] + R; cy++) {
-            if (cy < 0 || cy >= g->nc[1]) continue;
-            int a[3] = {x0, cy, cz}, b[3] = {x1, cy, cz};
-            if (g->fstart[rank_of(g, b) + 1] > g->fstart[rank_of(g, a)]) return 1;
-        }
-    }
-    return 0;
+    build_lists(g, f->n, f->x, f->y, f->z, l, boundary_targets(g, b, 0), NULL,
+                (nbr_targets){0});
 }
 
 void nbr_build_bf(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *l,
                   uint32_t *active, size_t *nactive)
 {
-    list_prepare(l, b->n);
-    FOR_ROWS_BY_THREAD(l, b->n, {
-        l->start[i + 1] = fluid_nearby(g, b->x[i], b->y[i], b->z[i])
-                              ? gather(g, l, t_, g->fstart, f->x, f->y, f->z,
-                                       b->x[i], b->y[i], b->z[i], UINT32_MAX)
-                              : 0;
-    })
+    build_lists(g, b->n, b->x, b->y, b->z, l, fluid_targets(g, f, 0), NULL, (nbr_targets){0});
     size_t na = 0;
     for (size_t i = 0; i < b->n; i++)
-        if (l->start[i + 1] > 0) active[na++] = (uint32_t)i;
+        if (l->start[i + 1] > l->start[i]) active[na++] = (uint32_t)i;
     *nactive = na;
-    list_finish(l);
 }
 
 void nbr_transpose(const nbr_list *fb, size_t nb, nbr_list *bf, uint32_t *active, size_t *nactive)
@@ -453,10 +587,6 @@ void nbr_transpose(const nbr_list *fb, size_t nb, nbr_list *bf, uint32_t *active
 
 void nbr_build_bb(const nbr_grid *g, const sl_boundary *b, nbr_list *l)
 {
-    list_prepare(l, b->n);
-    FOR_ROWS_BY_THREAD(l, b->n, {
-        l->start[i + 1] = gather(g, l, t_, g->bstart, b->x, b->y, b->z,
-                                 b->x[i], b->y[i], b->z[i], UINT32_MAX);
-    })
-    list_finish(l);
+    build_lists(g, b->n, b->x, b->y, b->z, l, boundary_targets(g, b, 0), NULL,
+                (nbr_targets){0});
 }

@@ -12,9 +12,10 @@
  *
  * Neighbour lists are compressed rows (start[i] .. start[i+1] into idx),
  * built once per step from x(t) and reused by every PCISPH iteration.  They
- * are gathered per particle (no atomics, no scatter).  Each thread fills its
- * own buffer for a contiguous, fixed range of particles; the buffers are then
- * concatenated in order, so the lists are identical for any thread count.
+ * are gathered per particle (no atomics, no scatter).  Each chunk of
+ * NBR_CHUNK rows fills its own buffer, taken by whichever thread is free;
+ * the buffers are then concatenated in order, so the lists are identical
+ * for any thread count.
  */
 #ifndef SL_NEIGHBOURS_H
 #define SL_NEIGHBOURS_H
@@ -50,16 +51,21 @@ typedef struct nbr_grid {
     size_t bperm_cap;
 } nbr_grid;
 
-/* One compressed-row neighbour list with per-thread fill buffers. */
+/* Rows per work unit of a list build.  Each chunk of rows fills its own
+ * buffer, whichever thread takes it; the buffers are concatenated in
+ * chunk order, so the lists are the same for any thread count. */
+#define NBR_CHUNK 1024
+
+/* One compressed-row neighbour list with per-chunk fill buffers. */
 typedef struct nbr_list {
     size_t n;                 /* rows */
     size_t rows_cap;
     uint32_t *start;          /* n + 1 */
     uint32_t *idx;            /* start[n] entries */
     size_t idx_cap;
-    int nthreads;
-    uint32_t **tbuf;          /* per-thread buffers */
-    size_t *tcap, *tlen;
+    size_t nbuf;              /* chunk buffers */
+    uint32_t **buf;
+    size_t *bcap, *blen;      /* capacity; entries (then the chunk's offset) */
 } nbr_list;
 
 /* Set up a grid over [lo, hi] with search radius h; the cell size is h

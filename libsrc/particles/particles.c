@@ -100,6 +100,16 @@ void prt_fluid_permute(sl_fluid *f, const uint32_t *perm)
     permute_u32(f->cell, f->scratch_u, perm, f->n);
 }
 
+int prt_fluid_state_pairs(sl_fluid *f, double **state[PRT_STATE_PAIRS],
+                          double **spare[PRT_STATE_PAIRS])
+{
+    double **st[PRT_STATE_PAIRS] = {&f->x, &f->y, &f->z, &f->vx, &f->vy, &f->vz, &f->rho, &f->p};
+    double **sp[PRT_STATE_PAIRS] = {&f->xs, &f->ys, &f->zs, &f->ax, &f->ay, &f->az, &f->apx, &f->apy};
+    memcpy(state, st, sizeof st);
+    memcpy(spare, sp, sizeof sp);
+    return PRT_STATE_PAIRS;
+}
+
 /* ---- boundary ---- */
 
 static void boundary_doubles(sl_boundary *b, double **a[BOUNDARY_DOUBLES])

@@ -65,6 +65,15 @@ void prt_fluid_push(sl_fluid *f, double x, double y, double z,
 /* Reorder every per-particle array so that new[i] = old[perm[i]]. */
 void prt_fluid_permute(sl_fluid *f, const uint32_t *perm);
 
+/* The fields that carry the state from one step to the next (x, v, rho,
+ * p), each paired with a field that a step recomputes before it reads it
+ * (x*, a, a^p), free to serve as its spare: a sort at the start of a step
+ * gathers state[k] into spare[k] and swaps the two pointers (no copy
+ * back).  Returns the number of pairs. */
+#define PRT_STATE_PAIRS 8
+int prt_fluid_state_pairs(sl_fluid *f, double **state[PRT_STATE_PAIRS],
+                          double **spare[PRT_STATE_PAIRS]);
+
 void prt_boundary_init(sl_boundary *b);
 void prt_boundary_reserve(sl_boundary *b, size_t cap);
 void prt_boundary_free(sl_boundary *b);

@@ -104,8 +104,10 @@ static inline void correct_density(const pcs_solver *s, const eff_view *v, size_
 }
 
 /* Predicted density and pressure of the active boundary particles (eq. 13
- * and eq. 3), for the methods whose walls take part in the solve. */
-static void boundary_density(pcs_solver *s)
+ * and eq. 3), for the methods whose walls take part in the solve.  Called
+ * inside the fluid's density pass's parallel region (its loop is shared
+ * by the team, without a barrier of its own). */
+static void boundary_density(const pcs_solver *s)
 {
     const sl_boundary *b = s->b;
     const krn_kernel k = s->k;
@@ -116,7 +118,7 @@ static void boundary_density(pcs_solver *s)
     const uint32_t *restrict bfs = s->bf.start, *restrict bfi = s->bf.idx;
     const double *restrict brs = b->rho_static;
     double *restrict brho = b->rho, *restrict bp = b->p, *restrict bpt = b->pt;
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(dynamic, 256) nowait
     for (size_t q = 0; q < s->nactive; q++) {
         const uint32_t i = act[q];
         const double r = brs[i] + m * sph_sum_w(k, bfi, bfs[i], bfs[i + 1], bx[i], by[i], bz[i],
@@ -226,8 +228,11 @@ pressure_one(const pass_ctx *c, size_t i, const wall_pressure_fn wall_term)
  * the method's terms are inlined into it (the parallel region is outlined
  * per function, before inlining):
  *   M_predict  predicted density and pressure of the fluid at x* and of
- *              the active boundary particles (eq. 13, eq. 3); fills
- *              s->err and returns the largest compression (absolute);
+ *              the active boundary particles (eq. 13, eq. 3), in one
+ *              parallel region; fills s->err and its sum s->err_sum (in
+ *              blocks of SL_REDUCE_BLOCK, each summed in order, the block
+ *              sums in order: the same bits for any thread count) and
+ *              returns the largest compression (absolute);
  *   M_force    the pressure force (eq. 6);
  *   M_current  the density at x(t), for output (no pressure update). */
 #define PCS_METHOD_PASSES(M)                                                        \
@@ -235,14 +240,28 @@ pressure_one(const pass_ctx *c, size_t i, const wall_pressure_fn wall_term)
     {                                                                              \
         const sl_fluid *f = s->f;                                                  \
         const pass_ctx c = density_pass_begin(s, f->xs, f->ys, f->zs);             \
-        const size_t n = f->n;                                                     \
+        const size_t n = f->n, nb = (n + SL_REDUCE_BLOCK - 1) / SL_REDUCE_BLOCK;   \
+        double *restrict part = s->err_block;                                      \
         double emax = 0.0;                                                         \
-        _Pragma("omp parallel for schedule(static) reduction(max : emax)")         \
-        for (size_t i = 0; i < n; i++) {                                           \
-            const double e = predict_one(&c, i, M##_wall_density, M##_density);    \
-            emax = e > emax ? e : emax;                                            \
+        _Pragma("omp parallel reduction(max : emax)")                              \
+        {                                                                          \
+            _Pragma("omp for schedule(dynamic, 1) nowait")                         \
+            for (size_t blk = 0; blk < nb; blk++) {                                \
+                const size_t lo = blk * SL_REDUCE_BLOCK;                           \
+                const size_t hi = lo + SL_REDUCE_BLOCK < n ? lo + SL_REDUCE_BLOCK : n; \
+                double sum = 0.0;                                                  \
+                for (size_t i = lo; i < hi; i++) {                                 \
+                    const double e = predict_one(&c, i, M##_wall_density, M##_density); \
+                    emax = e > emax ? e : emax;                                    \
+                    sum += e;                                                      \
+                }                                                                  \
+                part[blk] = sum;                                                   \
+            }                                                                      \
+            if (M##_wall_density) boundary_density(s);                             \
         }                                                                          \
-        if (M##_wall_density) boundary_density(s);                                 \
+        double total = 0.0;                                                        \
+        for (size_t blk = 0; blk < nb; blk++) total += part[blk];                  \
+        s->err_sum = total;                                                        \
         return emax;                                                               \
     }                                                                              \
     static void M##_force(pcs_solver *s)                                           \
@@ -250,16 +269,16 @@ pressure_one(const pass_ctx *c, size_t i, const wall_pressure_fn wall_term)
         const sl_fluid *f = s->f;                                                  \
         const pass_ctx c = pass_begin(s, f->xs, f->ys, f->zs);                     \
         const size_t n = f->n;                                                     \
-        _Pragma("omp parallel for schedule(static)")                               \
+        _Pragma("omp parallel for schedule(dynamic, 1024)")                        \
         for (size_t i = 0; i < n; i++) pressure_one(&c, i, M##_pressure);          \
     }                                                                              \
     static void M##_current(pcs_solver *s)                                         \
     {                                                                              \
         const sl_fluid *f = s->f;                                                  \
-        const pass_ctx c = density_pass_begin(s, f->x, f->y, f->z);                      \
+        const pass_ctx c = density_pass_begin(s, f->x, f->y, f->z);                \
         const size_t n = f->n;                                                     \
         double rv;                                                                 \
-        _Pragma("omp parallel for schedule(static) private(rv)")                   \
+        _Pragma("omp parallel for schedule(dynamic, 1024) private(rv)")            \
         for (size_t i = 0; i < n; i++)                                             \
             c.rho[i] = fluid_density(&c, i, M##_wall_density, M##_density, &rv);   \
     }
@@ -320,6 +339,7 @@ void pcs_free(pcs_solver *s)
     nbr_list_free(&s->bf);
     sl_free_aligned(s->active);
     sl_free_aligned(s->err);
+    sl_free_aligned(s->err_block);
     sl_free_aligned(s->err_vol);
     sl_free_aligned(s->ap_best);
     if (s->prm.method && s->prm.method->free) s->prm.method->free(s->bstate);
@@ -334,6 +354,9 @@ static void ensure_scratch(pcs_solver *s)
     if (s->err_cap < s->f->cap) {
         sl_free_aligned(s->err);
         s->err = sl_alloc_aligned(s->f->cap * sizeof *s->err, "density error");
+        sl_free_aligned(s->err_block);
+        s->err_block = sl_alloc_aligned((s->f->cap / SL_REDUCE_BLOCK + 1) * sizeof *s->err_block,
+                                        "density error sums");
         if (s->prm.max_iter > s->prm.min_iter) {
             sl_free_aligned(s->ap_best);
             s->ap_best = sl_alloc_aligned(3 * s->f->cap * sizeof *s->ap_best, "pressure force");
@@ -382,20 +405,23 @@ static void compute_forces(pcs_solver *s)
     double g[3];
     eff_uniform(s->eff, g); /* gravity */
     const double gx = g[0], gy = g[1], gz = g[2];
-#pragma omp parallel for schedule(static)
-    for (size_t i = 0; i < f->n; i++) {
-        f->ax[i] = gx;
-        f->ay[i] = gy;
-        f->az[i] = gz;
-        f->apx[i] = f->apy[i] = f->apz[i] = 0.0;
-        f->p[i] = 0.0;
+    const uint32_t *act = s->active;
+    double *pb = s->b->p;
+#pragma omp parallel
+    {
+#pragma omp for schedule(dynamic, 1024) nowait
+        for (size_t i = 0; i < f->n; i++) {
+            f->ax[i] = gx;
+            f->ay[i] = gy;
+            f->az[i] = gz;
+            f->apx[i] = f->apy[i] = f->apz[i] = 0.0;
+            f->p[i] = 0.0;
+        }
+#pragma omp for schedule(static) nowait
+        for (size_t q = 0; q < s->nactive; q++) pb[act[q]] = 0.0;
     }
     eff_view v = effect_view(s, s->t, s->dt, f->x, f->y, f->z);
     eff_run(s->eff, EFF_FORCES, &v);
-    const uint32_t *act = s->active;
-    double *pb = s->b->p;
-#pragma omp parallel for schedule(static)
-    for (size_t q = 0; q < s->nactive; q++) pb[act[q]] = 0.0;
 }
 
 /* World collision of positions (and velocities when vx != NULL). */
@@ -410,7 +436,7 @@ static void predict_positions(pcs_solver *s)
 {
     sl_fluid *f = s->f;
     const double dt = s->dt;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 1024)
     for (size_t i = 0; i < f->n; i++) {
         double vx = f->vx[i] + dt * (f->ax[i] + f->apx[i]);
         double vy = f->vy[i] + dt * (f->ay[i] + f->apy[i]);
@@ -454,12 +480,18 @@ static int guard_stops(pcs_solver *s, pcs_guard *g, double emax, int k)
     return 1;
 }
 
-/* Average compression of the fluid (fraction of rho0). */
-static double average_error(const pcs_solver *s, const double *err)
+/* Average compression of the fluid (fraction of rho0) from the sum of its
+ * compressions. */
+static double average_of(const pcs_solver *s, double sum)
 {
     const size_t n = s->f->n;
     const double inv_n = n ? 1.0 / (double)n : 0.0;
-    return sl_sum(err, n) * inv_n / s->prm.rho0;
+    return sum * inv_n / s->prm.rho0;
+}
+
+static double average_error(const pcs_solver *s, const double *err)
+{
+    return average_of(s, sl_sum(err, s->f->n));
 }
 
 /* The statistics of the last prediction (err_max: emax). */
@@ -470,7 +502,7 @@ static void solve_stats(const pcs_solver *s, pcs_stats *st, int k, double emax)
     st->iterations = k;
     st->converged = emax <= s->eta_abs;
     st->err_max = emax / rho0;
-    st->err_avg = average_error(s, s->err);
+    st->err_avg = average_of(s, s->err_sum); /* the last prediction's */
     if (s->prm.method->wall_density) {
         st->vol_avg = st->err_avg;
         st->vol_max = st->err_max;
@@ -508,7 +540,7 @@ static void pressure_solve(pcs_solver *s, pcs_stats *st)
         halo_refresh(s, 1);                                 /* images' rho, p, p/rho^2 */
         if (k == 0) {
             st->err_max_before = emax / s->prm.rho0;
-            st->err_avg_before = average_error(s, s->err);
+            st->err_avg_before = average_of(s, s->err_sum);
         }
         if (guard_stops(s, &g, emax, k)) {
             emax = g.best;
@@ -528,7 +560,7 @@ static void integrate(pcs_solver *s, pcs_stats *st)
     sl_fluid *f = s->f;
     const double dt = s->dt;
     double v2max = 0.0, f2max = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : f2max)
+#pragma omp parallel for schedule(dynamic, 1024) reduction(max : f2max)
     for (size_t i = 0; i < f->n; i++) {
         double ax = f->ax[i] + f->apx[i], ay = f->ay[i] + f->apy[i], az = f->az[i] + f->apz[i];
         double a2 = ax * ax + ay * ay + az * az;
@@ -541,7 +573,7 @@ static void integrate(pcs_solver *s, pcs_stats *st)
         f->z[i] += dt * f->vz[i];
     }
     st->ncollide = collide(s, f->x, f->y, f->z, f->vx, f->vy, f->vz);
-#pragma omp parallel for schedule(static) reduction(max : v2max)
+#pragma omp parallel for schedule(dynamic, 1024) reduction(max : v2max)
     for (size_t i = 0; i < f->n; i++) {
         double v2 = f->vx[i] * f->vx[i] + f->vy[i] * f->vy[i] + f->vz[i] * f->vz[i];
         if (!(v2 <= v2max)) v2max = isnan(v2) ? HUGE_VAL : v2;

@@ -95,6 +95,8 @@ struct pcs_solver {
     uint32_t *active;
     size_t nactive;
     double *err;           /* per-fluid-particle compression (scratch) */
+    double *err_block;     /* its sums by blocks of SL_REDUCE_BLOCK (last prediction) */
+    double err_sum;        /* their sum in block order */
     double *err_vol;       /* methods without wall density: the same with the wall's share */
     size_t err_cap;
     double *ap_best;       /* pressure force of the best iteration (3 x cap) */

@@ -601,7 +601,7 @@ static void test_demo_says_what_and_where(void **state)
     assert_int_equal(run("SLUICE_DEMO_DIR=$PWD/" OUT "/demo SLUICE_DEMO_END=0.004 SLUICE_PROGRESS=plain "
                          "SLUICE_PROGRESS_PERIOD=0.1 OMP_NUM_THREADS=1 etc/runDemo"), 0);
     assert_non_null(strstr(output, "damBreak tutorial"));
-    assert_non_null(strstr(output, "24k fluid particles, 0.004 s of simulated time, adaptive time step, one thread"));
+    assert_non_null(strstr(output, "24k fluid particles, 0.004 s of simulated time, adaptive time step, all cores"));
     assert_non_null(strstr(output, "Per-step log: "));
     assert_non_null(strstr(output, OUT "/demo/log.pcisph"));
     const char *p = strstr(output, "Progress: t = ");

@@ -25,6 +25,7 @@
 #include "case/case_restart.h"
 #include "core/sl_log.h"
 #include "core/sl_progress.h"
+#include "core/sl_threads.h"
 #include "functionObjects/fo.h"
 #include "io/time_dir.h"
 #include "solver/pcisph.h"
@@ -37,6 +38,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 /* What a run did, for the End summary: kept for this session and, in
@@ -86,6 +88,8 @@ typedef struct run {
     int quiet, resume;
     run_totals session, before; /* this session; the run before it (restart) */
     double wall0;
+    double write_wall;         /* seconds spent writing time directories */
+    double cpu0, write_cpu;    /* process CPU seconds: at the loop's start, in writing */
 } run;
 
 static volatile sig_atomic_t stop_requested, write_requested;
@@ -227,11 +231,20 @@ static void blob_unpack(run *r, int nsnaps)
     }
 }
 
+/* CPU seconds of the process (all its threads). */
+static double cpu_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 /* Write time directory r->t (density recomputed from x(t), restart file
  * included); the record is flushed with it. */
 static void write_time(run *r)
 {
     sl_err err;
+    const double w0 = omp_get_wtime(), c0 = cpu_seconds();
     const pcs_run_state *prev = hist_last(&r->hist);
     const pcs_snapshot *snaps[2] = {&r->wsnap, prev ? &prev->snap : NULL};
     pcs_compute_density(&r->s); /* sorts: the snapshot is taken after it */
@@ -241,6 +254,8 @@ static void write_time(run *r)
     if (out_write(&r->out, &r->s, r->t, snaps, prev ? 2 : 1, r->blob, r->blob_size, &err))
         sl_fatal("%s", err.msg);
     r->last_write = r->t;
+    r->write_wall += omp_get_wtime() - w0;
+    r->write_cpu += cpu_seconds() - c0;
 }
 
 /* The next write time after t: multiples of writeInterval from the run's
@@ -553,8 +568,16 @@ static void summary(run *r)
         const eff_instance *e = &r->c.effects.e[k];
         sl_info("  effect %-24s %8ld calls %8.2f s", e->type->name, e->calls, e->time);
     }
+    const double stepping = wall - r->write_wall;
     sl_info("  %.3g particle-steps/s (%d threads)",
             wall > 0 ? (double)r->c.fluid.n * (double)n->steps / wall : 0.0, omp_get_max_threads());
+    const double work = (double)r->c.fluid.n * (double)n->steps;
+    const double cpu = cpu_seconds() - r->cpu0 - r->write_cpu;
+    sl_info("  without output (%.2f s writing): %.2f s, %.3g particle-steps/s, %.3g per thread; "
+            "%.2f CPU s, %.3g particle-steps per CPU second",
+            r->write_wall, stepping, stepping > 0 ? work / stepping : 0.0,
+            stepping > 0 ? work / stepping / omp_get_max_threads() : 0.0, cpu,
+            cpu > 0 ? work / cpu : 0.0);
 }
 
 static run *the_run; /* for the exit handler */
@@ -618,6 +641,7 @@ int main(int argc, char **argv)
 {
     const char *dir = ".";
     static run r;
+    sl_threads_passive(argv); /* before any parallel region */
     parse_args(&r, argc, argv, &dir);
     signal(SIGINT, on_stop);
     signal(SIGTERM, on_stop);
@@ -643,6 +667,7 @@ int main(int argc, char **argv)
     print_world(&r, rule);
     r.t_end = r.c.ctl.end_time;
     r.wall0 = omp_get_wtime();
+    r.cpu0 = cpu_seconds();
     out_init(&r.out, &r.c, r.t);
     char start_name[64];
     out_name(&r.out, r.t, start_name, sizeof start_name);

@@ -14,6 +14,7 @@
 #include "app/app.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
+#include "core/sl_threads.h"
 #include "geometry/geometry.h"
 #include "effects/gravity.h"
 #include "solver/pcisph.h"
@@ -91,6 +92,7 @@ static void build_scene(long n, double r0, sl_fluid *f, sl_boundary *b, double l
 
 int main(int argc, char **argv)
 {
+    sl_threads_passive(argv); /* before any parallel region */
     bench_args a = parse(argc, argv);
     const double r0 = 0.01, dt = 0.5e-3;
     sl_fluid f;
