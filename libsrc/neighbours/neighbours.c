@@ -112,6 +112,19 @@ uint32_t nbr_cell_rank(const nbr_grid *g, double x, double y, double z)
     return rank_of(g, c);
 }
 
+/* The counting sort of sort_by_cell after the cells are known: start
+ * (ncells + 1) and perm (new index -> old index).  Stable. */
+static void count_by_cell(nbr_grid *g, size_t n, const uint32_t *cellv, uint32_t *start,
+                          uint32_t *perm)
+{
+    memset(g->count, 0, (g->ncells + 1) * sizeof *g->count);
+    for (size_t i = 0; i < n; i++) g->count[cellv[i] + 1]++;
+    start[0] = 0;
+    for (size_t k = 0; k < g->ncells; k++) start[k + 1] = start[k] + g->count[k + 1];
+    memcpy(g->count, start, g->ncells * sizeof *g->count);
+    for (size_t i = 0; i < n; i++) perm[g->count[cellv[i]]++] = (uint32_t)i;
+}
+
 /* Counting sort of n particles by cell rank: fills start (ncells + 1) and
  * perm (new index -> old index).  Stable, hence deterministic. */
 static void sort_by_cell(nbr_grid *g, size_t n, const double *x, const double *y,
@@ -123,12 +136,7 @@ static void sort_by_cell(nbr_grid *g, size_t n, const double *x, const double *y
         cell_of(g, x[i], y[i], z[i], c);
         cellv[i] = rank_of(g, c);
     }
-    memset(g->count, 0, (g->ncells + 1) * sizeof *g->count);
-    for (size_t i = 0; i < n; i++) g->count[cellv[i] + 1]++;
-    start[0] = 0;
-    for (size_t k = 0; k < g->ncells; k++) start[k + 1] = start[k] + g->count[k + 1];
-    memcpy(g->count, start, g->ncells * sizeof *g->count);
-    for (size_t i = 0; i < n; i++) perm[g->count[cellv[i]]++] = (uint32_t)i;
+    count_by_cell(g, n, cellv, start, perm);
 }
 
 /* Within each cell, order the particles (perm: new -> old index) by id
@@ -167,18 +175,6 @@ void nbr_sort_boundary(nbr_grid *g, sl_boundary *b)
     prt_boundary_permute(b, g->bperm);
 }
 
-/* The counting sort of sort_by_cell after the cells are known: start
- * (ncells + 1) and perm (new index -> old index).  Stable. */
-static void count_by_cell(nbr_grid *g, size_t n, const uint32_t *cellv, uint32_t *start,
-                          uint32_t *perm)
-{
-    memset(g->count, 0, (g->ncells + 1) * sizeof *g->count);
-    for (size_t i = 0; i < n; i++) g->count[cellv[i] + 1]++;
-    start[0] = 0;
-    for (size_t k = 0; k < g->ncells; k++) start[k + 1] = start[k] + g->count[k + 1];
-    memcpy(g->count, start, g->ncells * sizeof *g->count);
-    for (size_t i = 0; i < n; i++) perm[g->count[cellv[i]]++] = (uint32_t)i;
-}
 
 /* One parallel region (each costs a barrier, and a busy machine makes
  * barriers dear): cells, counting sort, order within the cells by id,
