@@ -88,14 +88,14 @@ void par_split_rows(size_t n, size_t block, size_t *off)
 
 #ifdef SL_HAVE_MPI
 /* Timing and counting around one collective. */
-#define COUNTED(msgs, nbytes, call)                                                  \
-    do {                                                                             \
-        const double t0_ = MPI_Wtime();                                              \
-        call;                                                                        \
-        count_.seconds += MPI_Wtime() - t0_;                                         \
-        count_.calls++;                                                              \
-        count_.messages += (msgs);                                                   \
-        count_.bytes += (double)(nbytes);                                            \
+#define COUNTED(msgs, nbytes, call)          \
+    do {                                     \
+        const double t0_ = MPI_Wtime();      \
+        call;                                \
+        count_.seconds += MPI_Wtime() - t0_; \
+        count_.calls++;                      \
+        count_.messages += (msgs);           \
+        count_.bytes += (double)(nbytes);    \
     } while (0)
 
 /* Counts and displacements of a gather (int, as MPI takes them); the
@@ -191,8 +191,7 @@ void par_bcast(void *buf, size_t bytes)
 #ifdef SL_HAVE_MPI
     if (size_ == 1) return;
     if (bytes > (size_t)2147483647) sl_fatal("par_bcast: %zu bytes exceed MPI's int counts", bytes);
-    COUNTED(size_ - 1, rank_ ? bytes : 0,
-            MPI_Bcast(buf, (int)bytes, MPI_BYTE, 0, MPI_COMM_WORLD));
+    COUNTED(size_ - 1, rank_ ? bytes : 0, MPI_Bcast(buf, (int)bytes, MPI_BYTE, 0, MPI_COMM_WORLD));
 #else
     (void)buf;
     (void)bytes;

@@ -27,12 +27,12 @@ static int mpi_here(void)
     return par_built() && system("command -v mpirun > /dev/null 2>&1") == 0;
 }
 
-#define NEED_MPI()                                                                            \
-    do {                                                                                      \
-        if (!mpi_here()) {                                                                    \
-            print_message("MPI not built (make MPI=no) or mpirun missing: skipped\n");        \
-            skip();                                                                           \
-        }                                                                                     \
+#define NEED_MPI()                                                                     \
+    do {                                                                               \
+        if (!mpi_here()) {                                                             \
+            print_message("MPI not built (make MPI=no) or mpirun missing: skipped\n"); \
+            skip();                                                                    \
+        }                                                                              \
     } while (0)
 
 /* Copy src to tests/output/<name>, run `edit` inside it, then the solver:
@@ -46,8 +46,7 @@ static int run_np(const char *src, const char *name, const char *edit, int np)
              "rm -rf tests/output/%s && mkdir -p tests/output && cp -r %s tests/output/%s && "
              "(cd tests/output/%s && %s) && %s%s/pcisph -case tests/output/%s -quiet %s "
              "> tests/output/%s/log.pcisph 2>&1",
-             name, src, name, name, edit, launch, bin_dir(), name, np > 0 ? "-parallel" : "",
-             name);
+             name, src, name, name, edit, launch, bin_dir(), name, np > 0 ? "-parallel" : "", name);
     return system(cmd);
 }
 
@@ -91,8 +90,10 @@ static void test_ranks_times_threads(void **state)
     (void)state;
     NEED_MPI();
     char edit[1024];
-    snprintf(edit, sizeof edit, "%s && sed -i 's/^numberOfThreads .*/numberOfThreads 2;/' "
-             "system/controlDict", dam);
+    snprintf(edit, sizeof edit,
+             "%s && sed -i 's/^numberOfThreads .*/numberOfThreads 2;/' "
+             "system/controlDict",
+             dam);
     assert_int_equal(run_np("tests/cases/damBreakShort", "parDamSerialT", dam, 0), 0);
     assert_int_equal(run_np("tests/cases/damBreakShort", "parDam2x2", edit, 2), 0);
     same_output("parDamSerialT", "parDam2x2");
@@ -191,12 +192,9 @@ int main(void)
     setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 0);
     setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 0);
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_dam_break_np123),
-        cmocka_unit_test(test_ranks_times_threads),
-        cmocka_unit_test(test_moving_boundary),
-        cmocka_unit_test(test_emitter),
-        cmocka_unit_test(test_restart_2_then_3),
-        cmocka_unit_test(test_periodic),
+        cmocka_unit_test(test_dam_break_np123),         cmocka_unit_test(test_ranks_times_threads),
+        cmocka_unit_test(test_moving_boundary),         cmocka_unit_test(test_emitter),
+        cmocka_unit_test(test_restart_2_then_3),        cmocka_unit_test(test_periodic),
         cmocka_unit_test(test_mpirun_without_parallel),
     };
     return cmocka_run_group_tests_name("parallel", tests, NULL, NULL);
