@@ -39,11 +39,29 @@ MODULES  := $(notdir $(wildcard libsrc/*))
 # its right.  They are linked in this order without --start-group, so that
 # a call upwards (a lower layer using a higher one) fails to link.
 LAYERS   := functionObjects case solver domain effects boundary motion neighbours geometry \
-            casefiles dictedit timestep app dictionary io particles kernel core
+            casefiles dictedit timestep app dictionary io particles kernel parallel core
 ifneq ($(sort $(MODULES)),$(sort $(LAYERS)))
   $(error libsrc modules and LAYERS in the Makefile differ: $(sort $(MODULES)) vs $(sort $(LAYERS)))
 endif
 LIBS     := $(foreach m,$(LAYERS),$(BUILD)/lib/libsl_$(m).a)
+
+# MPI (issue 17): with mpicc on the PATH (Debian: libopenmpi-dev) the
+# parallel layer is built against MPI and every program links it; MPI=no
+# builds without it (libsrc/parallel is then one rank, its exchanges no-ops,
+# and the parallel tests report themselves skipped).  Only libsrc/parallel
+# includes mpi.h.
+MPI      ?= $(if $(shell command -v mpicc 2>/dev/null),yes,no)
+ifeq ($(MPI),yes)
+  MPI_CFLAGS := -DSL_HAVE_MPI $(patsubst -I%,-isystem %,$(shell mpicc --showme:compile 2>/dev/null))
+  LDLIBS     += $(shell mpicc --showme:link 2>/dev/null)
+endif
+$(BUILD)/libsrc/parallel/%.o: CFLAGS += $(MPI_CFLAGS)
+# A change of MPI=yes/no rebuilds the parallel layer (and so relinks every
+# program): the stamp is made when the makefile is read, since .SECONDARY
+# would not remake a missing prerequisite.
+MPI_STAMP := $(BUILD)/.mpi-$(MPI)
+$(shell mkdir -p $(BUILD) && [ -f $(MPI_STAMP) ] || { rm -f $(BUILD)/.mpi-*; touch $(MPI_STAMP); })
+$(BUILD)/libsrc/parallel/par.o: $(MPI_STAMP)
 APPDIRS  := $(wildcard applications/solvers/*) $(wildcard applications/utilities/*)
 APPS     := $(foreach d,$(APPDIRS),$(BIN)/$(notdir $(d)))
 TESTSRC  := $(wildcard tests/unit/test_*.c)

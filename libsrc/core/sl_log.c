@@ -5,10 +5,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-static int quiet_;
+static int quiet_, secondary_;
 static void (*fatal_hook_)(void);
 
 void sl_log_set_quiet(int quiet) { quiet_ = quiet; }
+
+void sl_log_set_secondary(int rank) { secondary_ = rank; }
 
 void sl_log_set_fatal_hook(void (*hook)(void)) { fatal_hook_ = hook; }
 
@@ -24,7 +26,7 @@ void sl_err_set(sl_err *e, const char *fmt, ...)
 void sl_info(const char *fmt, ...)
 {
     va_list ap;
-    if (quiet_) return;
+    if (quiet_ || secondary_) return;
     va_start(ap, fmt);
     vfprintf(stdout, fmt, ap);
     va_end(ap);
@@ -35,6 +37,7 @@ void sl_info(const char *fmt, ...)
 void sl_warning(const char *fmt, ...)
 {
     va_list ap;
+    if (secondary_) return;
     fflush(stdout);
     fputs("Warning: ", stderr);
     va_start(ap, fmt);
@@ -48,6 +51,7 @@ void sl_fatal_at(const char *src, int line, const char *fmt, ...)
     va_list ap;
     void (*hook)(void) = fatal_hook_;
     fflush(stdout);
+    if (secondary_) fprintf(stderr, "rank %d: ", secondary_);
     fputs("Error: ", stderr);
     va_start(ap, fmt);
     vfprintf(stderr, fmt, ap);

@@ -31,6 +31,11 @@ void sl_fatal_at(const char *src, int line, const char *fmt, ...)
 /* Quiet mode (for tests): sl_info prints nothing. */
 void sl_log_set_quiet(int quiet);
 
+/* A rank other than 0 of a parallel run (rank > 0): sl_info and
+ * sl_warning print nothing (rank 0 prints the one log), sl_fatal prints
+ * its message prefixed with "rank <rank>: ". */
+void sl_log_set_secondary(int rank);
+
 /* A hook run by sl_fatal before exit (e.g. to write the last good state).
  * It is run at most once. */
 void sl_log_set_fatal_hook(void (*hook)(void));

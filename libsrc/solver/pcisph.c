@@ -11,6 +11,7 @@
 #include "core/sl_mem.h"
 #include "core/sl_reduce.h"
 #include "kernel/sph_sums.h"
+#include "parallel/par.h"
 
 /* Accumulate the wall-clock time of `body` in s->time.<phase>. */
 #define PHASE(s, phase, body)                                                  \
@@ -118,8 +119,11 @@ static void boundary_density(const pcs_solver *s)
     const uint32_t *restrict bfs = s->bf.start, *restrict bfi = s->bf.idx;
     const double *restrict brs = b->rho_static;
     double *restrict brho = b->rho, *restrict bp = b->p, *restrict bpt = b->pt;
+    double *restrict buf = s->split.bbuf;
+    const size_t q0 = s->split.act[s->split.rank], q1 = s->split.act[s->split.rank + 1];
+    const int packed = s->split.size > 1;
 #pragma omp for schedule(dynamic, 256) nowait
-    for (size_t q = 0; q < s->nactive; q++) {
+    for (size_t q = q0; q < q1; q++) {
         const uint32_t i = act[q];
         const double r = brs[i] + m * sph_sum_w(k, bfi, bfs[i], bfs[i + 1], bx[i], by[i], bz[i],
                                                  xs, ys, zs); /* eq. (13) */
@@ -128,7 +132,110 @@ static void boundary_density(const pcs_solver *s)
         brho[i] = r;
         bp[i] = pc;
         bpt[i] = pc / (r * r);
+        if (packed) {
+            buf[3 * q] = r;
+            buf[3 * q + 1] = pc;
+            buf[3 * q + 2] = bpt[i];
+        }
     }
+}
+
+/* ---- -parallel: what a pass computed on each rank, made whole ---- */
+
+/* Rows and active boundary particles of each rank for this search: the
+ * fluid rows by count, the active boundary particles by count. */
+static void split_rows(pcs_solver *s)
+{
+    pcs_split *sp = &s->split;
+    const size_t n = s->f->n, p = (size_t)sp->size;
+    for (size_t r = 0; r <= p; r++) {
+        sp->row[r] = n * r / p;
+        sp->act[r] = s->nactive * r / p;
+    }
+    sp->rows_min = n;
+    sp->rows_max = 0;
+    for (size_t r = 0; r < p; r++) {
+        const size_t k = sp->row[r + 1] - sp->row[r];
+        sp->rows_min = k < sp->rows_min ? k : sp->rows_min;
+        sp->rows_max = k > sp->rows_max ? k : sp->rows_max;
+    }
+    sp->steps++;
+    sp->empty += sp->rows_min == 0;
+    sp->rows_min_sum += (double)sp->rows_min;
+    sp->rows_max_sum += (double)sp->rows_max;
+}
+
+/* The block sums of the density error, from every rank's rows: each block
+ * summed in order, as the density pass sums its rows one at a time (the
+ * empty asm keeps the compiler from reassociating this loop, which
+ * -fassociative-math would vectorise: the serial code's bits). */
+static void block_sums(const double *err, size_t n, double *part)
+{
+    const size_t nb = (n + SL_REDUCE_BLOCK - 1) / SL_REDUCE_BLOCK;
+#pragma omp parallel for schedule(static)
+    for (size_t blk = 0; blk < nb; blk++) {
+        const size_t lo = blk * SL_REDUCE_BLOCK;
+        const size_t hi = lo + SL_REDUCE_BLOCK < n ? lo + SL_REDUCE_BLOCK : n;
+        double sum = 0.0;
+        for (size_t i = lo; i < hi; i++) {
+            sum += err[i];
+            __asm__("" : "+m"(sum));
+        }
+        part[blk] = sum;
+    }
+}
+
+/* Offsets of a per-row array of `w` doubles per row (scratch in off). */
+static const size_t *scaled(const size_t *in, size_t w, size_t *off, int size)
+{
+    for (int r = 0; r <= size; r++) off[r] = w * in[r];
+    return off;
+}
+
+/* After a density pass: every rank's fluid rows (density, pressure,
+ * p/rho^2, compression, and the measured compression of the methods
+ * without wall density), its block sums and its active boundary
+ * particles' density and pressure; the largest compression of all. */
+static double gather_predicted(pcs_solver *s, int wall, double emax)
+{
+    pcs_split *sp = &s->split;
+    const double t0 = omp_get_wtime();
+    sl_fluid *f = s->f;
+    sl_boundary *b = s->b;
+    par_gather_rows(f->rho, sp->row);
+    par_gather_rows(f->p, sp->row);
+    par_gather_rows(f->pt, sp->row);
+    par_gather_rows(s->err, sp->row);
+    if (!wall) par_gather_rows(s->err_vol, sp->row);
+    block_sums(s->err, f->n, s->err_block);
+    if (wall && s->nactive) {
+        size_t off[sp->size + 1];
+        par_gather_rows(sp->bbuf, scaled(sp->act, 3, off, sp->size));
+        const uint32_t *act = s->active;
+        const double *buf = sp->bbuf;
+        const size_t q0 = sp->act[sp->rank], q1 = sp->act[sp->rank + 1];
+        for (size_t q = 0; q < s->nactive; q++) {
+            if (q == q0) q = q1; /* own values are in place */
+            if (q >= s->nactive) break;
+            const uint32_t i = act[q];
+            b->rho[i] = buf[3 * q];
+            b->p[i] = buf[3 * q + 1];
+            b->pt[i] = buf[3 * q + 2];
+        }
+    }
+    emax = par_max_double(emax); /* a maximum: exact in any order */
+    s->time.comm += omp_get_wtime() - t0;
+    return emax;
+}
+
+/* After a pressure-force pass: every rank's rows of the force. */
+static void gather_force(pcs_solver *s)
+{
+    const double t0 = omp_get_wtime();
+    par_gather_rows(s->f->apx, s->split.row);
+    par_gather_rows(s->f->apy, s->split.row);
+    par_gather_rows(s->f->apz, s->split.row);
+    s->time.comm += omp_get_wtime() - t0;
 }
 
 /* What the per-particle work of a density or pressure pass reads. */
@@ -240,15 +347,18 @@ pressure_one(const pass_ctx *c, size_t i, const wall_pressure_fn wall_term)
     {                                                                              \
         const sl_fluid *f = s->f;                                                  \
         const pass_ctx c = density_pass_begin(s, f->xs, f->ys, f->zs);             \
-        const size_t n = f->n, nb = (n + SL_REDUCE_BLOCK - 1) / SL_REDUCE_BLOCK;   \
+        const size_t nb = (f->n + SL_REDUCE_BLOCK - 1) / SL_REDUCE_BLOCK;          \
+        const size_t i0 = s->split.row[s->split.rank], i1 = s->split.row[s->split.rank + 1]; \
+        const size_t b0 = i0 / SL_REDUCE_BLOCK;                                    \
+        const size_t b1 = i1 > i0 ? (i1 + SL_REDUCE_BLOCK - 1) / SL_REDUCE_BLOCK : b0; \
         double *restrict part = s->err_block;                                      \
         double emax = 0.0;                                                         \
         _Pragma("omp parallel reduction(max : emax)")                              \
         {                                                                          \
             _Pragma("omp for schedule(dynamic, 1) nowait")                         \
-            for (size_t blk = 0; blk < nb; blk++) {                                \
-                const size_t lo = blk * SL_REDUCE_BLOCK;                           \
-                const size_t hi = lo + SL_REDUCE_BLOCK < n ? lo + SL_REDUCE_BLOCK : n; \
+            for (size_t blk = b0; blk < b1; blk++) {                               \
+                const size_t bl = blk * SL_REDUCE_BLOCK, lo = bl > i0 ? bl : i0;   \
+                const size_t hi = bl + SL_REDUCE_BLOCK < i1 ? bl + SL_REDUCE_BLOCK : i1; \
                 double sum = 0.0;                                                  \
                 for (size_t i = lo; i < hi; i++) {                                 \
                     const double e = predict_one(&c, i, M##_wall_density, M##_density); \
@@ -259,6 +369,7 @@ pressure_one(const pass_ctx *c, size_t i, const wall_pressure_fn wall_term)
             }                                                                      \
             if (M##_wall_density) boundary_density(s);                             \
         }                                                                          \
+        if (s->split.size > 1) emax = gather_predicted(s, M##_wall_density, emax); \
         double total = 0.0;                                                        \
         for (size_t blk = 0; blk < nb; blk++) total += part[blk];                  \
         s->err_sum = total;                                                        \
@@ -268,9 +379,10 @@ pressure_one(const pass_ctx *c, size_t i, const wall_pressure_fn wall_term)
     {                                                                              \
         const sl_fluid *f = s->f;                                                  \
         const pass_ctx c = pass_begin(s, f->xs, f->ys, f->zs);                     \
-        const size_t n = f->n;                                                     \
+        const size_t i0 = s->split.row[s->split.rank], i1 = s->split.row[s->split.rank + 1]; \
         _Pragma("omp parallel for schedule(dynamic, 1024)")                        \
-        for (size_t i = 0; i < n; i++) pressure_one(&c, i, M##_pressure);          \
+        for (size_t i = i0; i < i1; i++) pressure_one(&c, i, M##_pressure);        \
+        if (s->split.size > 1) gather_force(s);                                    \
     }                                                                              \
     static void M##_current(pcs_solver *s)                                         \
     {                                                                              \
@@ -291,6 +403,21 @@ double pcs_pass_density(pcs_solver *s) { return s->passes->predict(s); }
 void pcs_pass_pressure(pcs_solver *s) { s->passes->pressure(s); }
 
 /* ---- set-up ---- */
+
+/* The ranks of the job (one without -parallel) and room for the split;
+ * the boundary's count does not change after set-up. */
+static void split_init(pcs_split *sp, size_t nb)
+{
+    memset(sp, 0, sizeof *sp);
+    sp->rank = par_rank();
+    sp->size = par_size();
+    const size_t p = (size_t)sp->size + 1;
+    sp->row = sl_malloc(p * sizeof *sp->row, "rank rows");
+    sp->act = sl_malloc(p * sizeof *sp->act, "rank rows");
+    memset(sp->row, 0, p * sizeof *sp->row);
+    memset(sp->act, 0, p * sizeof *sp->act);
+    if (sp->size > 1) sp->bbuf = sl_alloc_aligned((3 * nb + 1) * sizeof *sp->bbuf, "boundary rows");
+}
 
 void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b,
               const double lo[3], const double hi[3], double dt, eff_set *effects)
@@ -328,6 +455,7 @@ void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b,
             if (effects->e[q].type->stage == EFF_DENSITY) s->dens[s->ndens++] = &effects->e[q];
     }
     for (size_t i = 0; i < f->n; i++) f->rho[i] = p->rho0; /* until the first pass */
+    split_init(&s->split, b->n);
     pcs_set_dt(s, dt);
 }
 
@@ -345,6 +473,9 @@ void pcs_free(pcs_solver *s)
     if (s->prm.method && s->prm.method->free) s->prm.method->free(s->bstate);
     free(s->dens);
     dom_halo_free(&s->halo);
+    free(s->split.row);
+    free(s->split.act);
+    sl_free_aligned(s->split.bbuf);
     memset(s, 0, sizeof *s);
 }
 
@@ -394,6 +525,7 @@ void pcs_find_neighbours(pcs_solver *s)
     }
     PHASE(s, list_ff, nbr_build_fluid(&s->grid, s->f, s->b, &s->ff, &s->fb));
     PHASE(s, list_bf, nbr_transpose(&s->fb, s->b->n, &s->bf, s->active, &s->nactive));
+    split_rows(s);
 }
 
 /* Non-pressure forces per unit mass (the forces-stage effects the case

@@ -74,7 +74,25 @@ typedef struct pcs_timers {
     double world, search, forces, predict, density, pressure, integrate;
     double sort, list_ff, list_bf;   /* parts of search: sorting, fluid rows, boundary rows */
     double halo;                     /* halo copies: building (search) and refreshing */
+    double comm;                     /* MPI exchanges (-parallel), inside density and pressure */
 } pcs_timers;
+
+/* -parallel, phase 1 (replicated state, doc/parallel.md): every rank holds
+ * every particle; the density and pressure-force passes compute rank r's
+ * fluid rows [row[r], row[r+1]) and active boundary particles
+ * [act[r], act[r+1]) (split by count at each search); the pass's outputs
+ * are then gathered on every rank, and every rank sums the density error
+ * by blocks of SL_REDUCE_BLOCK in the serial code's order.  One rank: the
+ * serial code, nothing exchanged. */
+typedef struct pcs_split {
+    int rank, size;
+    size_t *row, *act;               /* size + 1 entries each, set by each search */
+    double *bbuf;                    /* active boundary rho, p, p/rho^2 packed by rank (3 x nb) */
+    size_t rows_min, rows_max;       /* fluid rows per rank of the last search */
+    long steps;                      /* searches split */
+    long empty;                      /* of them, with a rank holding no fluid row */
+    double rows_min_sum, rows_max_sum; /* their sums over those searches (balance) */
+} pcs_split;
 
 typedef struct pcs_solver pcs_solver;
 /* A boundary method's passes, compiled for it (pcisph.c). */
@@ -106,6 +124,7 @@ struct pcs_solver {
     size_t ndens;
     double t;              /* time of the state (set by the caller before a step) */
     dom_halo halo;         /* periodic images (domain/dom_periodic.h) */
+    pcs_split split;       /* rows of each rank (-parallel) */
 };
 
 /* What function objects and post-processing read of the state (a view:

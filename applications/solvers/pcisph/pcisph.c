@@ -5,6 +5,16 @@
  * handling (Sec. 3.3), writing time directories of VTK files.
  *
  *   pcisph [-case <dir>] [-quiet] [-resume]
+ *   mpirun -np N pcisph [-case <dir>] -parallel
+ *
+ * -parallel (doc/parallel.md): every rank reads the case and holds the
+ * whole state; the pressure solve's passes are shared out by rows and
+ * gathered (solver/pcisph.h, pcs_split), so every rank takes the same
+ * steps and holds the same bits.  Rank 0 alone holds the lock and writes
+ * time directories, the record, the function objects' files and the log;
+ * the others compute what the writes need (the density at x(t) sorts the
+ * fluid) and write nothing.  Requests to stop or write are made the
+ * job's by a reduction each step.
  *
  * One solver per case: it holds a lock on <case>/.sluice.lock (case_lock).
  * Writes follow writeControl (adjustableRunTime: steps evened out to land
@@ -28,6 +38,7 @@
 #include "core/sl_threads.h"
 #include "functionObjects/fo.h"
 #include "io/time_dir.h"
+#include "parallel/par.h"
 #include "solver/pcisph.h"
 #include "solver/pcs_history.h"
 #include "timestep/timestep.h"
@@ -85,7 +96,8 @@ typedef struct run {
     size_t blob_size;
     double t, t_end, next_write, last_write, origin;
     long step;
-    int quiet, resume;
+    int quiet, resume, parallel;
+    int root;                  /* rank 0 (or serial): writes and logs */
     run_totals session, before; /* this session; the run before it (restart) */
     double wall0;
     double write_wall;         /* seconds spent writing time directories */
@@ -115,6 +127,9 @@ static const app_option options[] = {
     {.name = "resume",
      .help = "continue from the latest time directory (startFrom latestTime for\n"
              "this run)"},
+    {.name = "parallel",
+     .help = "run as one of the ranks of mpirun -np N (MPI; doc/parallel.md): one\n"
+             "case, the same output as a serial run"},
     APP_END};
 
 static const app_info info = {
@@ -155,6 +170,9 @@ static void print_world(const run *r, const char *dt_rule)
                                 c->effects.e[k].type->name);
     sl_info("  effects             %s", off ? list : "none");
     sl_info("  threads             %d", omp_get_max_threads());
+    if (r->parallel)
+        sl_info("  ranks               %d (MPI; replicated state, the pressure solve's rows "
+                "shared out: doc/parallel.md)", par_size());
 }
 
 /* The status line: simulated time against endTime, steps per second. */
@@ -162,8 +180,15 @@ static void progress(run *r)
 {
     char what[160];
     double el = sl_progress_elapsed(&r->prog);
-    snprintf(what, sizeof what, "t = %.6g of %g s  deltaT %.3g s  %.3g steps/s", r->t, r->t_end,
-             r->ctl.dt, el > 0 ? (double)r->session.steps / el : 0.0);
+    int k = snprintf(what, sizeof what, "t = %.6g of %g s  deltaT %.3g s  %.3g steps/s", r->t,
+                     r->t_end, r->ctl.dt, el > 0 ? (double)r->session.steps / el : 0.0);
+    if (r->parallel && k > 0 && (size_t)k < sizeof what) {
+        const pcs_split *sp = &r->s.split;
+        const double stepping = omp_get_wtime() - r->wall0 - r->write_wall;
+        snprintf(what + k, sizeof what - (size_t)k, "  %d ranks, rows %zu-%zu, comm %.0f%%",
+                 sp->size, sp->rows_min, sp->rows_max,
+                 stepping > 0 ? 100 * r->s.time.comm / stepping : 0.0);
+    }
     sl_progress_update(&r->prog, r->t, what);
 }
 
@@ -250,9 +275,11 @@ static void write_time(run *r)
     pcs_compute_density(&r->s); /* sorts: the snapshot is taken after it */
     snap_take(&r->wsnap, r->s.f, r->t, r->s.dt, r->step);
     blob_pack(r);
-    rec_flush(&r->rec);
-    if (out_write(&r->out, &r->s, r->t, snaps, prev ? 2 : 1, r->blob, r->blob_size, &err))
-        sl_fatal("%s", err.msg);
+    if (r->root) {
+        rec_flush(&r->rec);
+        if (out_write(&r->out, &r->s, r->t, snaps, prev ? 2 : 1, r->blob, r->blob_size, &err))
+            sl_fatal("%s", err.msg);
+    }
     r->last_write = r->t;
     r->write_wall += omp_get_wtime() - w0;
     r->write_cpu += cpu_seconds() - c0;
@@ -347,7 +374,8 @@ static void fail_with_last_good(run *r, const char *why)
         write_time(r);
     }
     out_name(&r->out, r->t, name, sizeof name);
-    rec_close(&r->rec);
+    if (r->root) rec_close(&r->rec);
+    par_barrier(); /* the state is written before any rank exits */
     sl_fatal("%s at t = %.9g; last good state written to %s/%s", why, r->t, r->c.dir, name);
 }
 
@@ -376,7 +404,7 @@ static void roll_back(run *r)
     r->step = back->snap.step;
     r->next_write = next_write_after(r, r->t); /* a write passed over is written again */
     if (r->last_write > r->t) r->last_write = -INFINITY;
-    if (out_discard_after(&r->out, r->t, &err)) sl_fatal("%s", err.msg);
+    if (r->root && out_discard_after(&r->out, r->t, &err)) sl_fatal("%s", err.msg);
 }
 
 /* writeControl adjustableRunTime: the controller's dt, adjusted so that a
@@ -481,7 +509,7 @@ static void advance(run *r)
     unsigned crit = 0;
     ts_action a = ts_update(&r->c.ts, &r->ctl, r->c.prm.eta, r->s.h, &o, &crit);
     const int shock = a == TS_SHOCK || a == TS_SHOCK_STORM;
-    rec_step(&r->rec, r->t, step, &st, shock, wall, r->ctl.dt);
+    if (r->root) rec_step(&r->rec, r->t, step, &st, shock, wall, r->ctl.dt);
     log_step(r, &st, step, a, crit, wall);
     count_step(r, &st, step);
     const char *why = ts_failure(a);
@@ -498,13 +526,21 @@ static void advance(run *r)
     write_if_due(r);
 }
 
+/* Requests to write (a signal, the file writeNow) and to stop: the
+ * job's when any rank got one (-parallel: one reduction per step, so that
+ * every rank writes and stops at the same step). */
 static void poll_write_requests(run *r)
 {
     char path[4096];
     snprintf(path, sizeof path, "%s/writeNow", r->c.dir);
-    if (access(path, F_OK) == 0) {
+    if (r->root && access(path, F_OK) == 0) {
         unlink(path);
         write_requested = 1;
+    }
+    if (r->parallel) {
+        const int any = par_max_int((write_requested ? 1 : 0) | (stop_requested ? 2 : 0));
+        write_requested = (any & 1) != 0;
+        if (any & 2) stop_requested = 1;
     }
     if (write_requested && r->last_write != r->t) {
         sl_info("Writing at t = %.9g on request", r->t);
@@ -535,6 +571,29 @@ static void summary_unconverged(const run *r, const run_totals *n)
                 n->by_guard, n->guard_iter_min, n->guard_iter_max, r->c.prm.max_iter);
     if (!n->at_max_iter && !n->by_guard && r->c.ts.mode == TS_CONSTANT)
         sl_info("  every step ended with rho_err max at or below eta");
+}
+
+/* -parallel: the balance (fluid rows per rank) and the communication
+ * (the largest share of a rank's time loop spent in MPI exchanges, which
+ * includes waiting for a slower rank, and for rank 0's writes; messages
+ * and bytes received per step by rank 0).  Collective: every rank calls
+ * it. */
+static void summary_parallel(const run *r, double wall)
+{
+    const pcs_split *sp = &r->s.split;
+    const par_counts pc = par_counters();
+    const double comm_max = par_max_double(r->s.time.comm);
+    const double comm_min = par_min_double(r->s.time.comm);
+    const double steps = r->session.steps > 0 ? (double)r->session.steps : 1.0;
+    const double searches = sp->steps > 0 ? (double)sp->steps : 1.0;
+    sl_info("  parallel: %d ranks x %d threads; fluid rows per rank min %zu, max %zu (mean over "
+            "searches %.0f / %.0f; %ld of %ld searches left a rank without fluid)", sp->size,
+            omp_get_max_threads(), sp->rows_min, sp->rows_max, sp->rows_min_sum / searches,
+            sp->rows_max_sum / searches, sp->empty, sp->steps);
+    sl_info("  parallel: exchanges %.2f-%.2f s of the %.2f s time loop (%.1f %% at most, waiting "
+            "included); per step %.1f collectives, %.1f messages and %.3g bytes received by "
+            "rank 0", comm_min, comm_max, wall, wall > 0 ? 100 * comm_max / wall : 0.0,
+            (double)pc.calls / steps, (double)pc.messages / steps, pc.bytes / steps);
 }
 
 static void summary(run *r)
@@ -569,6 +628,7 @@ static void summary(run *r)
         sl_info("  effect %-24s %8ld calls %8.2f s", e->type->name, e->calls, e->time);
     }
     const double stepping = wall - r->write_wall;
+    if (r->parallel) summary_parallel(r, wall);
     sl_info("  %.3g particle-steps/s (%d threads)",
             wall > 0 ? (double)r->c.fluid.n * (double)n->steps / wall : 0.0, omp_get_max_threads());
     const double work = (double)r->c.fluid.n * (double)n->steps;
@@ -584,7 +644,7 @@ static run *the_run; /* for the exit handler */
 
 static void release_lock(void)
 {
-    if (the_run) case_lock_release(&the_run->lock);
+    if (the_run && the_run->root) case_lock_release(&the_run->lock);
 }
 
 /* Before anything is written: hold the case, and clear what runs that
@@ -593,17 +653,22 @@ static void claim_case(run *r)
 {
     sl_err err;
     char names[512];
-    if (case_lock_take(&r->lock, r->c.dir, &err)) sl_fatal("%s", err.msg);
-    the_run = r;
-    atexit(release_lock);
-    size_t n = tdir_remove_stale(r->c.dir, names, sizeof names);
-    if (n) sl_warning("removed %zu temporaries left in %s by runs that died: %s", n, r->c.dir, names);
+    if (r->root) {
+        if (case_lock_take(&r->lock, r->c.dir, &err)) sl_fatal("%s", err.msg);
+        the_run = r;
+        atexit(release_lock);
+        size_t n = tdir_remove_stale(r->c.dir, names, sizeof names);
+        if (n)
+            sl_warning("removed %zu temporaries left in %s by runs that died: %s", n, r->c.dir,
+                       names);
+    }
+    par_barrier(); /* the others read the case after rank 0 holds and cleaned it */
 }
 
 static void stopped_by_signal(run *r)
 {
     if (r->last_write != r->t) write_time(r);
-    rec_flush(&r->rec);
+    if (r->root) rec_flush(&r->rec);
     sl_progress_end(&r->prog);
     sl_info("Stopped by a signal at t = %.9g (written to %s/%s); resume with ./Allrun -resume, "
             "or pcisph -case %s -resume (startFrom latestTime for one run)",
@@ -617,7 +682,16 @@ static void parse_args(run *r, int argc, char **argv, const char **dir)
     *dir = app_case(&a);
     r->quiet = app_found(&a, "quiet");
     r->resume = app_found(&a, "resume");
+    r->parallel = app_found(&a, "parallel");
     app_free(&a);
+    const int launched = par_launcher_size();
+    if (launched > 1 && !r->parallel)
+        sl_fatal("started by mpirun with %d ranks but without -parallel: each rank would run "
+                 "the whole case alone; add -parallel (mpirun -np %d pcisph -case %s -parallel)",
+                 launched, launched, *dir);
+    par_init(&argc, &argv, r->parallel);
+    r->root = par_root();
+    if (!r->root) sl_log_set_secondary(par_rank());
 }
 
 static void alloc_state(run *r)
@@ -671,14 +745,19 @@ int main(int argc, char **argv)
     out_init(&r.out, &r.c, r.t);
     char start_name[64];
     out_name(&r.out, r.t, start_name, sizeof start_name);
-    rec_open(&r.rec, &r.c, start_name);
+    if (r.root) rec_open(&r.rec, &r.c, start_name);
     if (!restarted) write_time(&r);
     const pcs_view view = pcs_view_of(&r.s); /* what the function objects read */
+    if (!r.root) { /* the function objects' files are rank 0's */
+        fo_free(fo);
+        fo = NULL;
+    }
     if (restarted) fo_start(fo, &view, r.t); /* its state was recorded by the last run */
     else fo_execute(fo, &view, r.t, r.step, 1);
     r.last_write = r.t;
     r.next_write = next_write_after(&r, r.t);
     sl_progress_start(&r.prog, stderr, r.t, r.t_end, 10.0);
+    if (!r.root) r.prog.mode = SL_PROGRESS_OFF;
     if (!r.quiet && isatty(STDOUT_FILENO) && r.prog.mode == SL_PROGRESS_LINE)
         r.prog.mode = SL_PROGRESS_PLAIN; /* step lines scroll on the same terminal */
     while (r.t < r.t_end - 1e-9 * r.ctl.dt) {
@@ -695,11 +774,12 @@ int main(int argc, char **argv)
     sl_progress_end(&r.prog);
     summary(&r);
     sl_info("Open %s/fluid.pvd in ParaView.", r.c.dir);
-    rec_close(&r.rec);
+    if (r.root) rec_close(&r.rec);
     out_free(&r.out);
     free_state(&r);
     fo_free(fo);
     pcs_free(&r.s);
     case_free(&r.c);
+    par_finalize();
     return 0;
 }

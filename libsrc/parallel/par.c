@@ -1,0 +1,206 @@
+/* par: MPI behind one small interface, or one rank without it (see par.h). */
+#include "parallel/par.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/sl_log.h"
+
+#ifdef SL_HAVE_MPI
+#include <mpi.h>
+#endif
+
+static int rank_, size_ = 1;
+static par_counts count_;
+#ifdef SL_HAVE_MPI
+static int started_, finished_;
+#endif
+
+int par_built(void)
+{
+#ifdef SL_HAVE_MPI
+    return 1;
+#else
+    return 0;
+#endif
+}
+
+int par_launcher_size(void)
+{
+    const char *names[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"};
+    for (size_t k = 0; k < sizeof names / sizeof *names; k++) {
+        const char *v = getenv(names[k]);
+        if (v && *v) return atoi(v);
+    }
+    return 0;
+}
+
+#ifdef SL_HAVE_MPI
+/* An exit before par_finalize (sl_fatal on one rank) must not leave the
+ * other ranks waiting in a collective forever. */
+static void abort_job(void)
+{
+    if (started_ && !finished_) MPI_Abort(MPI_COMM_WORLD, 1);
+}
+#endif
+
+void par_init(int *argc, char ***argv, int want)
+{
+    (void)argc;
+    (void)argv;
+    if (!want) return;
+#ifdef SL_HAVE_MPI
+    int provided;
+    MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+    MPI_Comm_size(MPI_COMM_WORLD, &size_);
+    started_ = 1;
+    atexit(abort_job);
+#else
+    sl_fatal("-parallel: this Sluice was built without MPI (install libopenmpi-dev and "
+             "openmpi-bin, then make clean && make)");
+#endif
+}
+
+void par_finalize(void)
+{
+#ifdef SL_HAVE_MPI
+    if (started_ && !finished_) {
+        finished_ = 1;
+        MPI_Finalize();
+    }
+#endif
+}
+
+int par_rank(void) { return rank_; }
+int par_size(void) { return size_; }
+
+par_counts par_counters(void) { return count_; }
+
+void par_split_rows(size_t n, size_t block, size_t *off)
+{
+    const size_t nb = (n + block - 1) / block, p = (size_t)size_;
+    for (size_t r = 0; r <= p; r++) {
+        const size_t row = (nb * r / p) * block;
+        off[r] = row < n ? row : n;
+    }
+}
+
+#ifdef SL_HAVE_MPI
+/* Timing and counting around one collective. */
+#define COUNTED(msgs, nbytes, call)          \
+    do {                                     \
+        const double t0_ = MPI_Wtime();      \
+        call;                                \
+        count_.seconds += MPI_Wtime() - t0_; \
+        count_.calls++;                      \
+        count_.messages += (msgs);           \
+        count_.bytes += (double)(nbytes);    \
+    } while (0)
+
+/* Counts and displacements of a gather (int, as MPI takes them); the
+ * arrays are kept between calls (no allocation in the time loop after
+ * the first). */
+static int *counts_, *displs_;
+
+static void gather_layout(const size_t *off)
+{
+    if (!counts_) {
+        counts_ = malloc((size_t)size_ * sizeof *counts_);
+        displs_ = malloc((size_t)size_ * sizeof *displs_);
+        if (!counts_ || !displs_) sl_fatal("out of memory");
+    }
+    for (int r = 0; r < size_; r++) {
+        const size_t c = off[r + 1] - off[r];
+        if (c > (size_t)2147483647 || off[r] > (size_t)2147483647)
+            sl_fatal("par_gather_rows: %zu rows at %zu exceed MPI's int counts", c, off[r]);
+        counts_[r] = (int)c;
+        displs_[r] = (int)off[r];
+    }
+}
+#endif
+
+void par_gather_rows(double *a, const size_t *off)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ == 1) return;
+    gather_layout(off);
+    const size_t mine = off[rank_ + 1] - off[rank_];
+    const size_t got = off[size_] - off[0] - mine;
+    COUNTED(size_ - 1, got * sizeof(double),
+            MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, a, counts_, displs_, MPI_DOUBLE,
+                           MPI_COMM_WORLD));
+#else
+    (void)a;
+    (void)off;
+#endif
+}
+
+void par_gather_one(double *v)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ == 1) return;
+    COUNTED(size_ - 1, (size_t)(size_ - 1) * sizeof(double),
+            MPI_Allgather(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, v, 1, MPI_DOUBLE, MPI_COMM_WORLD));
+#else
+    (void)v;
+#endif
+}
+
+int par_max_int(int v)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ == 1) return v;
+    int out;
+    COUNTED(size_ - 1, (size_t)(size_ - 1) * sizeof v,
+            MPI_Allreduce(&v, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD));
+    return out;
+#else
+    return v;
+#endif
+}
+
+double par_max_double(double v)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ == 1) return v;
+    double out;
+    COUNTED(size_ - 1, (size_t)(size_ - 1) * sizeof v,
+            MPI_Allreduce(&v, &out, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD));
+    return out;
+#else
+    return v;
+#endif
+}
+
+double par_min_double(double v)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ == 1) return v;
+    double out;
+    COUNTED(size_ - 1, (size_t)(size_ - 1) * sizeof v,
+            MPI_Allreduce(&v, &out, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD));
+    return out;
+#else
+    return v;
+#endif
+}
+
+void par_bcast(void *buf, size_t bytes)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ == 1) return;
+    if (bytes > (size_t)2147483647) sl_fatal("par_bcast: %zu bytes exceed MPI's int counts", bytes);
+    COUNTED(size_ - 1, rank_ ? bytes : 0, MPI_Bcast(buf, (int)bytes, MPI_BYTE, 0, MPI_COMM_WORLD));
+#else
+    (void)buf;
+    (void)bytes;
+#endif
+}
+
+void par_barrier(void)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ > 1) MPI_Barrier(MPI_COMM_WORLD);
+#endif
+}

@@ -1,0 +1,63 @@
+/*
+ * par: the one interface of Sluice to MPI (issue 17), as OpenFOAM's
+ * UPstream is to its Pstream libraries: nothing above this layer includes
+ * mpi.h.  Built with mpicc (the Makefile finds it; `make MPI=no` builds
+ * without), par_ is a thin wrapper over MPI_COMM_WORLD; built without MPI,
+ * par_ is one rank and every exchange is a no-op, so a serial build and a
+ * parallel build share every line above it.
+ *
+ * What the solver exchanges (phase 1, replicated state): every rank holds
+ * every particle; a pass computes a contiguous range of rows per rank and
+ * par_gather_rows makes the array whole again on every rank (an in-place
+ * MPI_Allgatherv).  Every exchange is counted (messages, bytes, seconds)
+ * for the End summary and doc/parallel.md.
+ */
+#ifndef SL_PAR_H
+#define SL_PAR_H
+
+#include <stddef.h>
+
+/* 1 when this build has MPI. */
+int par_built(void);
+/* Start MPI (when `want` and the build has it); the rank count is then the
+ * job's.  Without `want`, or without MPI, one rank.  An exit before
+ * par_finalize (sl_fatal on any rank) aborts the whole job. */
+void par_init(int *argc, char ***argv, int want);
+void par_finalize(void);
+/* The number of ranks of a job started by mpirun (its environment), 0
+ * when not started by mpirun: an mpirun without -parallel is refused. */
+int par_launcher_size(void);
+
+int par_rank(void);
+int par_size(void);
+static inline int par_root(void) { return par_rank() == 0; }
+
+/* Rows [off[r], off[r+1]) of a are rank r's (off: par_size() + 1 entries,
+ * in units of doubles); afterwards every rank holds every rank's rows. */
+void par_gather_rows(double *a, const size_t *off);
+/* The same for one value per rank: v[par_rank()] in, v[0..size) out. */
+void par_gather_one(double *v);
+/* Largest of an int / a double over the ranks (an exact reduction). */
+int par_max_int(int v);
+double par_max_double(double v);
+double par_min_double(double v);
+/* Rank 0's bytes to every rank. */
+void par_bcast(void *buf, size_t bytes);
+void par_barrier(void);
+
+/* The exchanges so far on this rank: calls, messages (point-to-point
+ * equivalents: a gather over P ranks is P - 1 messages received), bytes
+ * received and seconds spent inside MPI. */
+typedef struct par_counts {
+    long calls, messages;
+    double bytes, seconds;
+} par_counts;
+par_counts par_counters(void);
+
+/* Split nblocks blocks of `block` rows (n rows in all) over the ranks by
+ * count: rank r gets blocks [nb r / P, nb (r + 1) / P), off[r] its first
+ * row (off: P + 1 entries).  Block boundaries are kept so that per-block
+ * partial sums are those of the serial code. */
+void par_split_rows(size_t n, size_t block, size_t *off);
+
+#endif

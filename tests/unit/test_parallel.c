@@ -1,0 +1,201 @@
+/* -parallel (issue 17): `mpirun -np N pcisph -parallel` writes what the
+ * serial run writes, byte for byte: the same time directories, the same
+ * fluid.vtu and boundary.vtu in each, the same record (timeStep.dat
+ * without its wall-time column), for np 1, 2 and 3 (oversubscribed on a
+ * 2-core machine) on a dam break, a rocking tank (moving boundary) and a
+ * filling (emitter); restart files written by 2 ranks continued on 3 give
+ * the uninterrupted serial run; the filling's first steps leave ranks
+ * without fluid rows; a periodic channel on 3 ranks gives the serial
+ * files; 2 ranks x 2 threads the same.  Without MPI in the build (make
+ * MPI=no) or without mpirun, every test is reported skipped. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include "case_run.h"
+#include "parallel/par.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* -parallel can run here: MPI built in and mpirun on the PATH. */
+static int mpi_here(void)
+{
+    return par_built() && system("command -v mpirun > /dev/null 2>&1") == 0;
+}
+
+#define NEED_MPI()                                                                     \
+    do {                                                                               \
+        if (!mpi_here()) {                                                             \
+            print_message("MPI not built (make MPI=no) or mpirun missing: skipped\n"); \
+            skip();                                                                    \
+        }                                                                              \
+    } while (0)
+
+/* Copy src to tests/output/<name>, run `edit` inside it, then the solver:
+ * serial when np == 0, else mpirun -np np ... -parallel. */
+static int run_np(const char *src, const char *name, const char *edit, int np)
+{
+    char cmd[4096], launch[256] = "";
+    if (np > 0)
+        snprintf(launch, sizeof launch, "mpirun --oversubscribe --bind-to none -np %d ", np);
+    snprintf(cmd, sizeof cmd,
+             "rm -rf tests/output/%s && mkdir -p tests/output && cp -r %s tests/output/%s && "
+             "(cd tests/output/%s && %s) && %s%s/pcisph -case tests/output/%s -quiet %s "
+             "> tests/output/%s/log.pcisph 2>&1",
+             name, src, name, name, edit, launch, bin_dir(), name, np > 0 ? "-parallel" : "", name);
+    return system(cmd);
+}
+
+/* The two runs wrote the same time directories with the same fluid.vtu
+ * and boundary.vtu, and the same record but for the wall time (column 9). */
+static void same_output(const char *a, const char *b)
+{
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd,
+             "cd tests/output && ls -d %s/[0-9]* | sed 's|^%s/||' > %s.times && "
+             "ls -d %s/[0-9]* | sed 's|^%s/||' > %s.times && cmp -s %s.times %s.times && "
+             "n=0 && for t in $(cat %s.times); do "
+             "cmp %s/$t/fluid.vtu %s/$t/fluid.vtu && cmp %s/$t/boundary.vtu %s/$t/boundary.vtu "
+             "|| exit 1; n=$((n + 1)); done && [ $n -ge 2 ] && "
+             "cut -f1-8,10- %s/postProcessing/timeStep/0/timeStep.dat > %s.rec && "
+             "cut -f1-8,10- %s/postProcessing/timeStep/0/timeStep.dat > %s.rec && "
+             "cmp %s.rec %s.rec",
+             a, a, a, b, b, b, a, b, a, a, b, a, b, a, a, b, b, a, b);
+    int rc = system(cmd);
+    if (rc) fail_msg("tests/output/%s and tests/output/%s differ", a, b);
+}
+
+static const char *dam =
+    "sed -i 's/^endTime .*/endTime 0.04;/; s/^writeInterval .*/writeInterval 0.02;/; "
+    "s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict";
+
+static void test_dam_break_np123(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parDamSerial", dam, 0), 0);
+    const char *names[] = {"parDam1", "parDam2", "parDam3"};
+    for (int np = 1; np <= 3; np++) {
+        assert_int_equal(run_np("tests/cases/damBreakShort", names[np - 1], dam, np), 0);
+        same_output("parDamSerial", names[np - 1]);
+    }
+}
+
+static void test_ranks_times_threads(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    char edit[1024];
+    snprintf(edit, sizeof edit,
+             "%s && sed -i 's/^numberOfThreads .*/numberOfThreads 2;/' "
+             "system/controlDict",
+             dam);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parDamSerialT", dam, 0), 0);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parDam2x2", edit, 2), 0);
+    same_output("parDamSerialT", "parDam2x2");
+}
+
+/* The rocking tank: the moving walls are placed by every rank alike. */
+static void test_moving_boundary(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    const char *edit = "sed -i 's/^endTime .*/endTime 0.04;/; s/^writeInterval .*/writeInterval "
+                       "0.02;/' system/controlDict && echo 'numberOfThreads 1;' >> "
+                       "system/controlDict && sed -i 's/^particleSpacing .*/particleSpacing "
+                       "0.025;/' constant/fluidProperties";
+    assert_int_equal(run_np("tutorials/sloshingTank", "parSloshSerial", edit, 0), 0);
+    assert_int_equal(run_np("tutorials/sloshingTank", "parSlosh3", edit, 3), 0);
+    same_output("parSloshSerial", "parSlosh3");
+}
+
+/* The filling: the emitter adds the same particles on every rank, and the
+ * rows are split again at each search; the fluid grows from none, so the
+ * first steps leave ranks without fluid rows (on 3 ranks, while there are
+ * fewer than 3 particles, or none). */
+static void test_emitter(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    const char *edit = "sed -i 's/^endTime .*/endTime 0.1;/; s/^writeInterval .*/writeInterval "
+                       "0.05;/' system/controlDict && echo 'numberOfThreads 1;' >> "
+                       "system/controlDict";
+    assert_int_equal(run_np("tutorials/filling", "parFillSerial", edit, 0), 0);
+    assert_int_equal(run_np("tutorials/filling", "parFill3", edit, 3), 0);
+    same_output("parFillSerial", "parFill3");
+    /* "... 12 of 40 searches left a rank without fluid" with 12 > 0 */
+    assert_int_equal(system("grep -q ' [1-9][0-9]* of [0-9]* searches left a rank without fluid' "
+                            "tests/output/parFill3/log.pcisph"),
+                     0);
+}
+
+/* Restart files written by 2 ranks, continued on 3: the serial run's
+ * files at the end. */
+static void test_restart_2_then_3(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    const char *first = "sed -i 's/^endTime .*/endTime 0.02;/; s/^writeInterval .*/writeInterval "
+                        "0.02;/; s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict";
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parRestartSerial", dam, 0), 0);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parRestart", first, 2), 0);
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "cd tests/output/parRestart && sed -i 's/^endTime .*/endTime 0.04;/; "
+             "s/^startFrom .*/startFrom latestTime;/' system/controlDict && "
+             "mpirun --oversubscribe --bind-to none -np 3 %s/pcisph -case . -quiet -parallel "
+             "> log.restart 2>&1 && grep -q 'Restarting from' log.restart",
+             bin_dir());
+    assert_int_equal(system(cmd), 0);
+    assert_int_equal(system("cmp tests/output/parRestartSerial/0.04/fluid.vtu "
+                            "tests/output/parRestart/0.04/fluid.vtu"),
+                     0);
+    assert_int_equal(system("cmp tests/output/parRestartSerial/0.04/boundary.vtu "
+                            "tests/output/parRestart/0.04/boundary.vtu"),
+                     0);
+}
+
+/* A periodic channel on 3 ranks: the serial files. */
+static void test_periodic(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    const char *edit = "sed -i 's/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict";
+    assert_int_equal(run_np("tests/cases/periodicChannel", "parPeriodicSerial", edit, 0), 0);
+    assert_int_equal(run_np("tests/cases/periodicChannel", "parPeriodic3", edit, 3), 0);
+    same_output("parPeriodicSerial", "parPeriodic3");
+}
+
+/* mpirun without -parallel would run the case N times over itself: refused. */
+static void test_mpirun_without_parallel(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "rm -rf tests/output/parNoFlag && cp -r tests/cases/damBreakShort "
+             "tests/output/parNoFlag && mpirun --oversubscribe -np 2 %s/pcisph -case "
+             "tests/output/parNoFlag > tests/output/parNoFlag/log.pcisph 2>&1",
+             bin_dir());
+    assert_int_not_equal(system(cmd), 0);
+    assert_int_equal(system("grep -q 'without -parallel' tests/output/parNoFlag/log.pcisph"), 0);
+    assert_int_not_equal(system("test -d tests/output/parNoFlag/0"), 0); /* nothing written */
+}
+
+int main(void)
+{
+    /* CI runs as root: Open MPI refuses that unless told */
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 0);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 0);
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_dam_break_np123),         cmocka_unit_test(test_ranks_times_threads),
+        cmocka_unit_test(test_moving_boundary),         cmocka_unit_test(test_emitter),
+        cmocka_unit_test(test_restart_2_then_3),        cmocka_unit_test(test_periodic),
+        cmocka_unit_test(test_mpirun_without_parallel),
+    };
+    return cmocka_run_group_tests_name("parallel", tests, NULL, NULL);
+}
