@@ -6,11 +6,13 @@
 #include <string.h>
 
 #include "core/sl_mem.h"
+#include "effects/laminar_viscosity.h"
 #include "effects/surface_density.h"
 #include "effects/surface_tension.h"
 #include "effects/viscosity.h"
 
-const eff_type *const eff_fluid_effects[] = {&eff_viscosity, &eff_surface_tension,
+const eff_type *const eff_fluid_effects[] = {&eff_viscosity, &eff_laminar_viscosity,
+                                             &eff_surface_tension,
                                              &eff_surface_density, NULL};
 
 void eff_set_init(eff_set *s) { memset(s, 0, sizeof *s); }

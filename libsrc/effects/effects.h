@@ -7,7 +7,7 @@
  * constant/fluidProperties (and with it its physics, e.g. the mapping of a
  * kinematic viscosity to the Becker-Teschner coefficient), what it does,
  * and the plain data it needs saved with rollbacks and restart files.
- * One file per effect: gravity, viscosity, surface_tension,
+ * One file per effect: gravity, viscosity, laminar_viscosity, surface_tension,
  * surface_density, moving_boundary, emitter.
  *
  * A case's effects form an eff_set, in a fixed order (the order of

@@ -277,4 +277,30 @@ static inline void sph_sum_viscosity(const krn_kernel k, const uint32_t *restric
 #endif
 }
 
+/* a += scale sum_j m_j gradf(r_ij) r_ij^2 / (r_ij^2 + eps_h2) (v - v_j): the
+ * laminar viscosity's sum (Morris et al. 1997, effects/laminar_viscosity.h),
+ * every pair.  mj == NULL means every m_j = 1. */
+static inline void sph_sum_laminar(const krn_kernel k, const uint32_t *restrict idx, uint32_t q0,
+                                   uint32_t q1, const double p[3], const double v[3],
+                                   const double *restrict x, const double *restrict y,
+                                   const double *restrict z, const double *restrict vx,
+                                   const double *restrict vy, const double *restrict vz,
+                                   const double *restrict mj, double eps_h2, double scale,
+                                   double a[3])
+{
+    double ax = 0.0, ay = 0.0, az = 0.0;
+    for (uint32_t q = q0; q < q1; q++) {
+        const uint32_t j = idx[q];
+        const double dx = p[0] - x[j], dy = p[1] - y[j], dz = p[2] - z[j];
+        const double r2 = dx * dx + dy * dy + dz * dz;
+        const double c = (mj ? mj[j] : 1.0) * krn_gradf(&k, sqrt(r2)) * r2 / (r2 + eps_h2);
+        ax += c * (v[0] - vx[j]);
+        ay += c * (v[1] - vy[j]);
+        az += c * (v[2] - vz[j]);
+    }
+    a[0] += scale * ax;
+    a[1] += scale * ay;
+    a[2] += scale * az;
+}
+
 #endif

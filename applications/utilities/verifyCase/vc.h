@@ -1,0 +1,61 @@
+/*
+ * verifyCase: the error of a case against an exact (or accepted analytic)
+ * answer, from its written times (doc/verification.md).
+ *
+ * The answer is named by system/verifyDict:
+ *
+ *   exact      poiseuille;   // hydrostatic translatingTank poiseuille taylorGreen standingWave
+ *   nu         0.01;         // m^2/s: poiseuille, taylorGreen, standingWave (decay)
+ *   amplitude  0.05;         // m/s (taylorGreen U) or m (standingWave A)
+ *   length     0.2;          // m: taylorGreen period L
+ *   from       0;            // only written times at or after it enter the norm
+ *   tolerance  0.05;         // optional: exit 1 when the error is above it
+ *
+ * Everything else comes from the case: rho0, r0, gravity, the container
+ * (the tank's area and the channel's gap), the container's motion (the
+ * translating tank's velocity) and the written fluid.vtu files.
+ */
+#ifndef VC_H
+#define VC_H
+
+#include <stddef.h>
+
+#include "case/case.h"
+#include "dictionary/dict.h"
+#include "functionObjects/fo_post.h"
+
+typedef enum { VC_HYDROSTATIC, VC_TRANSLATING, VC_POISEUILLE, VC_TAYLOR_GREEN, VC_WAVE, VC_KINDS } vc_kind;
+
+typedef struct vc_setup {
+    vc_kind kind;
+    double nu, amplitude, length, from, tolerance; /* tolerance < 0: none */
+    double rho0, r0, g[3], gmag;
+    double lo[3], hi[3];                           /* the container's inner walls */
+    const mot_motion *motion;                      /* the container's, or NULL */
+    size_t nfluid;
+    double depth;                                  /* fluid volume / container area */
+} vc_setup;
+
+/* One written time's measures (what the kind defines; unused ones NAN). */
+typedef struct vc_sample {
+    double t;
+    double err;       /* the norm this kind is judged by, at this time */
+    double perr;      /* hydrostatic pressure error / (rho0 g H) */
+    double vrms;      /* rms speed against the exact velocity (m/s) */
+    double ke;        /* kinetic energy per unit mass (m^2/s^2) */
+    double height;    /* the highest particle + r0/2 (m) */
+} vc_sample;
+
+extern const char *const vc_kind_names[];
+
+/* Read system/verifyDict of case c into s (stops with file, line, key). */
+void vc_read(vc_setup *s, const sl_case *c);
+/* The measures of one snapshot at time t. */
+void vc_measure(const vc_setup *s, const sl_fluid *f, double t, vc_sample *out);
+/* The exact Poiseuille velocity (series solution from rest) at height z
+ * above the lower plate of a gap d, time t. */
+double vc_poiseuille(double g, double nu, double d, double z, double t);
+/* The standing wave's linear period 2 pi / sqrt(g k tanh(k H)), k = pi / L. */
+double vc_wave_period(double g, double L, double H);
+
+#endif

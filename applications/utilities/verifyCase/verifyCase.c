@@ -1,0 +1,206 @@
+/*
+ * verifyCase: the error of a finished case against its exact answer
+ * (system/verifyDict, see vc.h), from its written times.
+ *
+ *   verifyCase [-case <dir>] [-time <times> | -latestTime] [-table <file>] [-label <text>]
+ *
+ * Prints one line per written time (its error and the measures behind it),
+ * then the case's error: the largest over the times at or after `from`
+ * (hydrostatic and translatingTank: the latest time; standingWave: the
+ * period's relative error, from the minima of the kinetic energy).  With
+ * -table a row "label kind r0 particles error wallTime steps" is appended
+ * to <file> (a header first when the file is new); wallTime is the sum of
+ * the steps' wall seconds of postProcessing/timeStep/0/timeStep.dat (the
+ * stepping, without output).  Exit 1 when the error is above the
+ * verifyDict's tolerance, 2 on a bad command line.
+ */
+#include "app/app.h"
+#include "case/case.h"
+#include "core/sl_log.h"
+#include "core/sl_mem.h"
+#include "functionObjects/fo_post.h"
+#include "vc.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const app_option options[] = {
+    APP_CASE,
+    APP_TIMES,
+    {.name = "table", .kind = APP_PATH, .help = "append the case's row to this file"},
+    {.name = "label", .kind = APP_STRING, .help = "the row's first column", .def = "the case's folder name"},
+    {.name = "quiet", .help = "print only the case's error"},
+    APP_END};
+
+static const app_info info = {
+    .name = "verifyCase",
+    .what = "Error of a case against its exact answer, named in system/verifyDict\n"
+            "(exact hydrostatic | translatingTank | poiseuille | taylorGreen | standingWave),\n"
+            "from the written times; see doc/verification.md.",
+    .options = options,
+    .notes = "Example: verifyCase -case cases/verification/poiseuille/r0.005 -table errors.dat"};
+
+/* Sum of the wallTime column (9th) and the number of steps of the case's
+ * step record; NAN and 0 when there is none. */
+static double wall_time(const char *dir, long *steps)
+{
+    char path[4096], line[1024];
+    snprintf(path, sizeof path, "%s/postProcessing/timeStep/0/timeStep.dat", dir);
+    FILE *f = fopen(path, "r");
+    *steps = 0;
+    if (!f) return NAN;
+    double sum = 0.0;
+    while (fgets(line, sizeof line, f)) {
+        double v[9];
+        if (line[0] == '#') continue;
+        if (sscanf(line, "%lf %lf %lf %lf %lf %lf %lf %lf %lf", &v[0], &v[1], &v[2], &v[3], &v[4],
+                   &v[5], &v[6], &v[7], &v[8]) == 9) {
+            sum += v[8];
+            (*steps)++;
+        }
+    }
+    fclose(f);
+    return sum;
+}
+
+/* The standing wave's period from the kinetic-energy minima: the energy is
+ * largest at t = 0 and smallest at t = (2j - 1) T / 4; least squares for T
+ * over the minima found (below 0.3 of the largest energy, one per quarter
+ * period of the linear answer Te).  NAN when there is none. */
+static double wave_period(const vc_sample *s, size_t n, double Te, int *nmin)
+{
+    double kmax = 0.0, num = 0.0, den = 0.0, last = -INFINITY;
+    int j = 0;
+    for (size_t i = 0; i < n; i++) kmax = fmax(kmax, s[i].ke);
+    for (size_t i = 1; i + 1 < n; i++) {
+        if (!(s[i].ke < s[i - 1].ke && s[i].ke <= s[i + 1].ke && s[i].ke < 0.3 * kmax)) continue;
+        if (s[i].t - last < 0.25 * Te) continue;
+        /* the parabola through the three points */
+        double t0 = s[i - 1].t, t1 = s[i].t, t2 = s[i + 1].t;
+        double k0 = s[i - 1].ke, k1 = s[i].ke, k2 = s[i + 1].ke;
+        double d = (t0 - t1) * (t0 - t2) * (t1 - t2);
+        double A = (t2 * (k1 - k0) + t1 * (k0 - k2) + t0 * (k2 - k1)) / d;
+        double B = (t2 * t2 * (k0 - k1) + t1 * t1 * (k2 - k0) + t0 * t0 * (k1 - k2)) / d;
+        double tm = A > 0.0 ? -B / (2.0 * A) : t1;
+        if (!(tm >= t0 && tm <= t2)) tm = t1;
+        j++;
+        double a = (2.0 * j - 1.0) / 4.0;
+        num += a * tm;
+        den += a * a;
+        last = tm;
+    }
+    *nmin = j;
+    return j ? num / den : (double)NAN;
+}
+
+/* <case>/postProcessing/verifyCase/summary.dat: one row, for sweepCase's
+ * results (e.g. postProcessing/verifyCase/summary.dat:error). */
+static void write_summary(const sl_case *c, const vc_setup *s, double error, double perr,
+                          double vrms, double wall, long steps)
+{
+    sl_err err;
+    char path[4096];
+    snprintf(path, sizeof path, "%s/postProcessing/verifyCase", c->dir);
+    if (tdir_mkdirs(path, &err)) sl_fatal("%s", err.msg);
+    snprintf(path, sizeof path, "%s/postProcessing/verifyCase/summary.dat", c->dir);
+    FILE *f = fopen(path, "w");
+    if (!f) sl_fatal("cannot write '%s'", path);
+    fprintf(f, "# verifyCase: %s against its exact answer (system/verifyDict)\n"
+               "# error\tpressureError\tvelocityRms\tparticles\tr0\twallTime\tsteps\n",
+            vc_kind_names[s->kind]);
+    fprintf(f, "%.8g\t%.8g\t%.8g\t%zu\t%g\t%.6g\t%ld\n", error, perr, vrms, s->nfluid, s->r0,
+            wall, steps);
+    if (fclose(f)) sl_fatal("cannot write '%s'", path);
+}
+
+int main(int argc, char **argv)
+{
+    app a;
+    app_parse(&a, &info, argc, argv);
+    const char *dir = app_case(&a), *table = app_string(&a, "table", NULL);
+    const int quiet = app_found(&a, "quiet");
+    sl_case c;
+    vc_setup s;
+    tdir_list times;
+    sl_err err;
+    sl_log_set_quiet(1);
+    case_read(&c, dir);
+    sl_log_set_quiet(0);
+    vc_read(&s, &c);
+    const int with_first = s.kind == VC_WAVE;
+    app_times(&a, c.dir, "fluid.vtu", with_first, &times);
+    if (times.n == 0)
+        sl_fatal("%s: no written time to verify (run the case first; the initial state does not "
+                 "count)", c.dir);
+    vc_sample *smp = sl_malloc(times.n * sizeof *smp, "samples");
+    const double area = (s.hi[0] - s.lo[0]) * (s.hi[1] - s.lo[1]);
+    double worst = 0.0, mean = 0.0;
+    size_t counted = 0;
+    if (!quiet)
+        printf("# %s: %s\n# time\terror\tpressureError\tvelocityRms\tkineticEnergy\theight\n",
+               c.dir, vc_kind_names[s.kind]);
+    for (size_t i = 0; i < times.n; i++) {
+        fo_snapshot sn;
+        if (fo_snapshot_load(&sn, &c, times.name[i], 0, &err)) sl_fatal("%s", err.msg);
+        s.nfluid = sn.f.n;
+        s.depth = (double)sn.f.n * s.r0 * s.r0 * s.r0 / area;
+        vc_measure(&s, &sn.f, times.time[i], &smp[i]);
+        fo_snapshot_free(&sn);
+        if (!quiet)
+            printf("%s\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\n", times.name[i], smp[i].err, smp[i].perr,
+                   smp[i].vrms, smp[i].ke, smp[i].height);
+        if (times.time[i] >= s.from - 1e-9 && isfinite(smp[i].err)) {
+            worst = fmax(worst, smp[i].err);
+            mean += smp[i].err;
+            counted++;
+        }
+    }
+    double error = worst;
+    const char *what = "largest over the times";
+    if (s.kind == VC_HYDROSTATIC || s.kind == VC_TRANSLATING) {
+        error = counted ? mean / (double)counted : (double)NAN;
+        what = "mean over the times";
+    } else if (s.kind == VC_WAVE) {
+        const double Te = vc_wave_period(s.gmag, s.hi[0] - s.lo[0], s.depth);
+        int nmin;
+        double T = wave_period(smp, times.n, Te, &nmin);
+        if (!isfinite(T))
+            sl_fatal("%s: no minimum of the kinetic energy in the written times: write more "
+                     "often than a quarter period (%.4g s) and run at least half a period",
+                     c.dir, 0.25 * Te);
+        error = fabs(T - Te) / Te;
+        printf("# period %.6g s from %d minima, linear theory %.6g s (L %g m, H %.6g m)\n", T,
+               nmin, Te, s.hi[0] - s.lo[0], s.depth);
+        what = "relative error of the period";
+        counted = 1;
+    }
+    if (counted == 0) sl_fatal("%s: no written time at or after from = %g", c.dir, s.from);
+    long steps;
+    const double wall = wall_time(c.dir, &steps);
+    printf("%s: %s error %.6g (%s), %zu particles, r0 %g m, %.3g s wall in %ld steps\n", c.dir,
+           vc_kind_names[s.kind], error, what, s.nfluid, s.r0, wall, steps);
+    write_summary(&c, &s, error, smp[times.n - 1].perr, smp[times.n - 1].vrms, wall, steps);
+    if (table) {
+        const char *label = app_string(&a, "label", NULL);
+        if (!label) {
+            label = strrchr(c.dir, '/');
+            label = label && label[1] ? label + 1 : c.dir;
+        }
+        FILE *f = fopen(table, "a");
+        if (!f) sl_fatal("cannot append to '%s'", table);
+        if (ftell(f) == 0) fprintf(f, "# label\tkind\tr0\tparticles\terror\twallTime\tsteps\n");
+        fprintf(f, "%s\t%s\t%g\t%zu\t%.6g\t%.4g\t%ld\n", label, vc_kind_names[s.kind], s.r0,
+                s.nfluid, error, wall, steps);
+        if (fclose(f)) sl_fatal("cannot write '%s'", table);
+    }
+    int bad = s.tolerance > 0.0 && !(error <= s.tolerance);
+    if (bad) fprintf(stderr, "Error: %s: error %.6g above the tolerance %g of system/verifyDict\n",
+                     c.dir, error, s.tolerance);
+    free(smp);
+    tdir_list_free(&times);
+    case_free(&c);
+    app_free(&a);
+    return bad;
+}

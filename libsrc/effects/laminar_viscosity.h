@@ -1,0 +1,41 @@
+/*
+ * laminar_viscosity: the physical (laminar) viscosity of Morris, Fox & Zhu
+ * 1997 (J. Comput. Phys. 136, eq. 8 there), a forces-stage effect:
+ *
+ *   a_i += sum_j m_j (mu_i + mu_j) / (rho_i rho_j)
+ *                    (x_ij . grad W_ij) / (|x_ij|^2 + 0.01 h^2) v_ij
+ *
+ * with mu = rho0 nu and rho_i = rho_j = rho0 (PCISPH keeps the density
+ * within eta), i.e. a_i += 2 nu / rho0 sum_j m_j gradf(r) r^2 / (r^2 +
+ * 0.01 h^2) (v_i - v_j).  Unlike the artificial viscosity (viscosity.h),
+ * which damps only approaching pairs and maps nu to alpha h c_s = 10 nu,
+ * every pair is damped, shear included: nu is the kinematic viscosity of
+ * the Navier-Stokes equations (the Poiseuille profile of
+ * cases/verification/poiseuille converges to g z (d - z) / (2 nu)).
+ * Against boundary particles the same form with their masses and
+ * velocities (no-slip walls), with boundaryNu (default nu; 0: free slip).
+ *
+ * constant/fluidProperties:
+ *   laminarViscosity { nu n; [boundaryNu nb;] }
+ *
+ * Which to use when (doc/verification.md): laminarViscosity where the
+ * viscous answer matters (shear flows, boundary layers, decay rates);
+ * viscosity (artificial) as a stabiliser of splashing flows, as the paper.
+ */
+#ifndef SL_LAMINAR_VISCOSITY_H
+#define SL_LAMINAR_VISCOSITY_H
+
+#include "effects/effects.h"
+
+typedef struct lvisc_params {
+    double nu;           /* m^2/s, fluid-fluid */
+    double nu_boundary;  /* m^2/s, fluid-boundary */
+} lvisc_params;
+
+extern const eff_type eff_laminar_viscosity;
+
+/* Add the viscous acceleration to f->ax, ay, az. */
+void lvisc_apply(const lvisc_params *p, const krn_kernel *k, double mass, double rho0,
+                 sl_fluid *f, const sl_boundary *b, const nbr_list *ff, const nbr_list *fb);
+
+#endif
