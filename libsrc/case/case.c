@@ -659,7 +659,9 @@ void case_read(sl_case *c, const char *dir)
     if (ts_validate(&c->ts, c->prm.eta, &err))
         sl_fatal("%s/system/timeStepDict: %s (with eta = %g %% in constant/fluidProperties)",
                  c->dir, err.msg, 100 * c->prm.eta);
-    if (c->ts.mode == TS_ADAPTIVE) /* Sec. 3.3: exactly `iterations` per step */
+    if (ts_is_cost(&c->ts)) /* to eta on average, minIterations..maxIterations */
+        c->prm.stop_max = c->ts.cost_max_density * c->prm.eta;
+    else if (c->ts.mode == TS_ADAPTIVE) /* Sec. 3.3: exactly `iterations` per step */
         c->prm.min_iter = c->prm.max_iter = c->ts.iterations;
 }
 

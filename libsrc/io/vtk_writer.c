@@ -1,5 +1,5 @@
 /*
- * vtk_writer: VTK XML .vtu writer (see vtk_writer.h).
+ * vtk_writer: VTK XML .vtu and .vtp writer (see vtk_writer.h).
  *
  * A binary file is the XML header, in which every DataArray tag has a blank
  * slot where ` offset="N"` is written once N is known, then
@@ -46,8 +46,8 @@
 typedef enum { VTK_SRC_SOA, VTK_SRC_IOTA, VTK_SRC_CONST } vtk_src;
 
 /* One DataArray as streamed: the caller's component arrays (SOA), or a
- * generated integer sequence start, start + 1, ... (IOTA) or the constant
- * start (CONST), for the vertex cells. */
+ * generated integer sequence start, start + step, ... (IOTA) or the
+ * constant start (CONST), for the vertex cells and the triangles' offsets. */
 typedef struct vtk_array {
     const char *name;
     vtk_type type;
@@ -55,7 +55,7 @@ typedef struct vtk_array {
     size_t ntuples;
     vtk_src src;
     const void *comp[3];
-    int64_t start;
+    int64_t start, step;
     off_t slot;      /* file position of the blank offset slot */
     uint64_t offset; /* where the array starts in the appended data */
 } vtk_array;
@@ -66,6 +66,7 @@ typedef struct vtk_piece {
     vtk_array *arr;
     size_t narr, nfield_data, npoint_data;
     size_t npoints, ncells;
+    int poly;    /* PolyData of triangles (two cell arrays), else UnstructuredGrid (three) */
     double time; /* the TimeValue array points here */
 } vtk_piece;
 
@@ -232,7 +233,7 @@ static void vtk_array_tuple(const vtk_array *a, size_t i, unsigned char *out)
             memcpy(out + (size_t)k * es, (const unsigned char *)a->comp[k] + i * es, es);
         return;
     }
-    v = a->src == VTK_SRC_IOTA ? a->start + (int64_t)i : a->start;
+    v = a->src == VTK_SRC_IOTA ? a->start + a->step * (int64_t)i : a->start;
     if (a->type == VTK_UINT8) {
         uint8_t b = (uint8_t)v;
         memcpy(out, &b, 1);
@@ -381,17 +382,23 @@ static void vtk_write_section(vtk_out *o, const char *tag, vtk_array *a, size_t 
 static void vtk_write_xml(vtk_out *o, vtk_piece *p)
 {
     vtk_array *pd = p->arr + p->nfield_data, *pts = pd + p->npoint_data;
-    vtk_printf(o, "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+    const char *type = p->poly ? "PolyData" : "UnstructuredGrid";
+    vtk_printf(o, "<?xml version=\"1.0\"?>\n<VTKFile type=\"%s\" version=\"1.0\" "
                   "byte_order=\"%s\" header_type=\"UInt64\"%s>\n",
-               VTK_BYTE_ORDER, o->compress ? " compressor=\"vtkZLibDataCompressor\"" : "");
-    vtk_printf(o, "  <UnstructuredGrid>\n");
+               type, VTK_BYTE_ORDER, o->compress ? " compressor=\"vtkZLibDataCompressor\"" : "");
+    vtk_printf(o, "  <%s>\n", type);
     if (p->nfield_data) vtk_write_section(o, "FieldData", p->arr, p->nfield_data, 1);
-    vtk_printf(o, "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n", p->npoints,
-               p->ncells);
+    if (p->poly)
+        vtk_printf(o, "    <Piece NumberOfPoints=\"%zu\" NumberOfVerts=\"0\" NumberOfLines=\"0\" "
+                      "NumberOfStrips=\"0\" NumberOfPolys=\"%zu\">\n",
+                   p->npoints, p->ncells);
+    else
+        vtk_printf(o, "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n", p->npoints,
+                   p->ncells);
     vtk_write_section(o, "PointData", pd, p->npoint_data, 0);
     vtk_write_section(o, "Points", pts, 1, 0);
-    vtk_write_section(o, "Cells", pts + 1, 3, 0);
-    vtk_printf(o, "    </Piece>\n  </UnstructuredGrid>\n");
+    vtk_write_section(o, p->poly ? "Polys" : "Cells", pts + 1, p->poly ? 2 : 3, 0);
+    vtk_printf(o, "    </Piece>\n  </%s>\n", type);
 }
 
 /* The appended data, then the offsets into the slots left in the header. */
@@ -456,6 +463,7 @@ static vtk_array *vtk_piece_add(vtk_piece *p, const char *name, vtk_type type, i
     a->ncomp = ncomp;
     a->ntuples = ntuples;
     a->src = src;
+    a->step = 1;
     return a;
 }
 
@@ -488,21 +496,16 @@ static void vtk_piece_init(vtk_piece *p, size_t n, const double *x, const double
     vtk_piece_add(p, "types", VTK_UINT8, 1, p->ncells, VTK_SRC_CONST)->start = 1; /* VTK_VERTEX */
 }
 
-int vtk_write_points(const char *path, size_t n, const double *x, const double *y,
-                     const double *z, const vtk_field *fields, size_t nfields,
-                     const vtk_options *opt, sl_err *err)
+/* Write p to path (atomically) and free its arrays. */
+static int vtk_write_piece(const char *path, vtk_piece *pp, const vtk_options *opt, sl_err *err)
 {
-    vtk_options def;
-    vtk_piece p;
+    vtk_piece p = *pp;
     vtk_out o;
     afile af;
-    if (!opt) {
-        vtk_options_default(&def);
-        opt = &def;
+    if (!afile_open(&af, path, err)) {
+        free(p.arr);
+        return 1;
     }
-    if (vtk_check_input(path, n, x, y, z, fields, nfields, err)) return 1;
-    if (!afile_open(&af, path, err)) return 1;
-    vtk_piece_init(&p, n, x, y, z, fields, nfields, opt);
     vtk_out_init(&o, af.f, opt);
     vtk_write_xml(&o, &p);
     if (o.ascii)
@@ -518,4 +521,55 @@ int vtk_write_points(const char *path, size_t n, const double *x, const double *
         return 1;
     }
     return afile_commit(&af, err);
+}
+
+int vtk_write_points(const char *path, size_t n, const double *x, const double *y,
+                     const double *z, const vtk_field *fields, size_t nfields,
+                     const vtk_options *opt, sl_err *err)
+{
+    vtk_options def;
+    vtk_piece p;
+    if (!opt) {
+        vtk_options_default(&def);
+        opt = &def;
+    }
+    if (vtk_check_input(path, n, x, y, z, fields, nfields, err)) return 1;
+    vtk_piece_init(&p, n, x, y, z, fields, nfields, opt);
+    return vtk_write_piece(path, &p, opt, err);
+}
+
+int vtk_write_triangles(const char *path, size_t n, const double *x, const double *y,
+                        const double *z, size_t ntri, const int64_t *tri,
+                        const vtk_field *fields, size_t nfields, const vtk_options *opt,
+                        sl_err *err)
+{
+    vtk_options def;
+    vtk_piece p;
+    if (!opt) {
+        vtk_options_default(&def);
+        opt = &def;
+    }
+    if (vtk_check_input(path, n, x, y, z, fields, nfields, err)) return 1;
+    if (ntri > 0 && !tri) {
+        sl_err_set(err, "cannot write '%s': triangles missing", path);
+        return 1;
+    }
+    for (size_t i = 0; i < 3 * ntri; i++)
+        if (tri[i] < 0 || (uint64_t)tri[i] >= n) {
+            sl_err_set(err, "cannot write '%s': triangle %zu refers to point %" PRId64 " of %zu",
+                       path, i / 3, tri[i], n);
+            return 1;
+        }
+    vtk_options o = *opt;
+    o.vertices = 0;
+    vtk_piece_init(&p, n, x, y, z, fields, nfields, &o);
+    /* the vertex cells' three arrays become the triangles' two */
+    p.narr -= 3;
+    p.poly = 1;
+    p.ncells = ntri;
+    vtk_piece_add(&p, "connectivity", VTK_INT64, 1, 3 * ntri, VTK_SRC_SOA)->comp[0] = tri;
+    vtk_array *off = vtk_piece_add(&p, "offsets", VTK_INT64, 1, ntri, VTK_SRC_IOTA);
+    off->start = 3;
+    off->step = 3;
+    return vtk_write_piece(path, &p, &o, err);
 }

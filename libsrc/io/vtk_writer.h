@@ -1,5 +1,6 @@
 /*
- * vtk_writer: VTK XML UnstructuredGrid (.vtu) files of particles.
+ * vtk_writer: VTK XML UnstructuredGrid (.vtu) files of particles, and
+ * PolyData (.vtp) files of triangles (the reconstructed surface).
  *
  * Binary files are "appended raw" (no base64) with UInt64 headers, by default
  * zlib-compressed in blocks exactly as vtkZLibDataCompressor expects; ascii
@@ -14,6 +15,7 @@
 #define VTK_WRITER_H
 
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 
 #include "core/sl_log.h"
@@ -51,6 +53,15 @@ void vtk_options_default(vtk_options *o);
 int vtk_write_points(const char *path, size_t n, const double *x, const double *y,
                      const double *z, const vtk_field *fields, size_t nfields,
                      const vtk_options *opt, sl_err *err);
+
+/* Write a PolyData of n points and ntri triangles (tri[3 t + k]: 0-based
+ * point indices, written as Int64 "connectivity" with "offsets" 3, 6, ...)
+ * with point-data fields, in the same encoding as vtk_write_points
+ * (opt->vertices is ignored).  An index outside [0, n) is an error. */
+int vtk_write_triangles(const char *path, size_t n, const double *x, const double *y,
+                        const double *z, size_t ntri, const int64_t *tri,
+                        const vtk_field *fields, size_t nfields, const vtk_options *opt,
+                        sl_err *err);
 
 /* The shortest decimal text ("%.15g" to "%.17g") that reads back as exactly
  * v, e.g. 0.1 -> "0.1", 1e-05 -> "1e-05".  Returns snprintf's result. */

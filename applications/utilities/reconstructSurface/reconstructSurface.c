@@ -1,0 +1,211 @@
+/*
+ * reconstructSurface: the water as a surface, one per written time, for
+ * ParaView and for measurements (issue 19; method in libsrc/surface and
+ * doc/surface.md).
+ *
+ *   reconstructSurface [-case <dir>] [-time <times> | -latestTime] [-parallel]
+ *
+ * For each selected time directory holding fluid.vtu (the initial state
+ * included) writes <time>/surface.vtp: triangles with velocity and pressure
+ * interpolated to their vertices.  Then <case>/surface.pvd and
+ * surface.vtp.series, beside fluid.pvd, list every time that has a
+ * surface.vtp (so that -latestTime after a full run keeps the whole
+ * series).  Options come from system/surfaceDict (optional; annotated
+ * defaults in etc/caseDicts/surfaceDict).  Each time's line gives the
+ * surface's area and enclosed volume beside the fluid's N r0^3.
+ *
+ * Threads (numberOfThreads of system/controlDict, 0: all cores) work inside
+ * one time; with -parallel they take one time each instead, which is faster
+ * for many small frames.  Either way the files are the same.
+ */
+#include "app/app.h"
+#include "case/case.h"
+#include "core/sl_log.h"
+#include "core/sl_mem.h"
+#include "core/sl_progress.h"
+#include "core/sl_threads.h"
+#include "io/vtk_collection.h"
+#include "io/vtk_reader.h"
+#include "io/vtk_writer.h"
+#include "surface/surface.h"
+
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+static const app_option options[] = {
+    APP_CASE,
+    APP_TIMES,
+    {.name = "parallel", .help = "one time per thread (default: the threads share each time)"},
+    APP_END};
+
+static const app_info info = {
+    .name = "reconstructSurface",
+    .what = "Reconstructs the fluid's free surface of every written time into\n"
+            "<time>/surface.vtp (triangles with velocity and pressure) and lists them\n"
+            "in surface.pvd beside fluid.pvd; options in system/surfaceDict.",
+    .options = options};
+
+/* "a/b" or "a/b/c" (c empty: the former). */
+static char *path_of(const char *a, const char *b, const char *c)
+{
+    size_t n = strlen(a) + strlen(b) + strlen(c) + 3;
+    char *s = sl_malloc(n, "path");
+    snprintf(s, n, "%s/%s%s%s", a, b, *c ? "/" : "", c);
+    return s;
+}
+
+/* The component k of the point array `name` of f as its own array (NULL if
+ * f has no such array with ncomp components). */
+static double *component(const vtkr_file *f, const char *name, int ncomp, int k)
+{
+    const vtkr_array *a = vtkr_find(f, name);
+    if (!a || a->ncomp != ncomp) return NULL;
+    double *v = sl_malloc((f->npoints ? f->npoints : 1) * sizeof *v, "a surface input field");
+    for (size_t i = 0; i < f->npoints; i++) v[i] = a->data[i * (size_t)ncomp + (size_t)k];
+    return v;
+}
+
+typedef struct frame_stats {
+    size_t n, nt;
+    double area, volume, seconds;
+} frame_stats;
+
+static frame_stats one_time(const sl_case *c, const srf_params *prm, const char *tname,
+                            double t)
+{
+    frame_stats st = {0, 0, 0, 0, omp_get_wtime()};
+    char *in = path_of(c->dir, tname, "fluid.vtu"), *out = path_of(c->dir, tname, "surface.vtp");
+    vtkr_file f;
+    srf_mesh m;
+    sl_err err;
+    if (vtkr_read(in, &f, &err)) sl_fatal("%s", err.msg);
+    double *px = sl_malloc((f.npoints ? f.npoints : 1) * sizeof *px, "positions");
+    double *py = sl_malloc((f.npoints ? f.npoints : 1) * sizeof *py, "positions");
+    double *pz = sl_malloc((f.npoints ? f.npoints : 1) * sizeof *pz, "positions");
+    for (size_t i = 0; i < f.npoints; i++) {
+        px[i] = f.points[3 * i];
+        py[i] = f.points[3 * i + 1];
+        pz[i] = f.points[3 * i + 2];
+    }
+    srf_particles p = {.n = f.npoints, .x = px, .y = py, .z = pz, .r0 = c->prm.r0};
+    p.vx = component(&f, "velocity", 3, 0);
+    p.vy = component(&f, "velocity", 3, 1);
+    p.vz = component(&f, "velocity", 3, 2);
+    p.p = component(&f, "pressure", 1, 0);
+    if (srf_reconstruct(&p, prm, &m, &err)) sl_fatal("%s: %s", in, err.msg);
+    vtk_field fields[2];
+    size_t nf = 0;
+    if (m.vx) fields[nf++] = (vtk_field){"velocity", 3, VTK_FLOAT64, {m.vx, m.vy, m.vz}};
+    if (m.p) fields[nf++] = (vtk_field){"pressure", 1, VTK_FLOAT64, {m.p, NULL, NULL}};
+    vtk_options o;
+    vtk_options_default(&o);
+    o.ascii = c->ctl.ascii;
+    o.compress = c->ctl.compress;
+    o.time = t;
+    if (vtk_write_triangles(out, m.nv, m.x, m.y, m.z, m.nt, m.tri, fields, nf, &o, &err))
+        sl_fatal("%s", err.msg);
+    st.n = f.npoints;
+    st.nt = m.nt;
+    st.area = srf_area(&m);
+    st.volume = srf_volume(&m);
+    st.seconds = omp_get_wtime() - st.seconds;
+    srf_mesh_free(&m);
+    free((void *)p.vx);
+    free((void *)p.vy);
+    free((void *)p.vz);
+    free((void *)p.p);
+    free(px);
+    free(py);
+    free(pz);
+    vtkr_free(&f);
+    free(in);
+    free(out);
+    return st;
+}
+
+/* surface.pvd and surface.vtp.series: every time with a surface.vtp. */
+static void write_collection(const char *dir)
+{
+    tdir_list l;
+    sl_err err;
+    if (tdir_list_read(dir, "surface.vtp", &l, &err)) sl_fatal("%s", err.msg);
+    const char **files = sl_malloc((l.n ? l.n : 1) * sizeof *files, "collection");
+    for (size_t i = 0; i < l.n; i++) files[i] = path_of(l.name[i], "surface.vtp", "");
+    char *pvd = path_of(dir, "surface.pvd", ""), *series = path_of(dir, "surface.vtp.series", "");
+    if (vtk_collection_write(pvd, series, l.time, files, l.n, &err)) sl_fatal("%s", err.msg);
+    sl_info("Open %s in ParaView (%zu time%s).", pvd, l.n, l.n == 1 ? "" : "s");
+    for (size_t i = 0; i < l.n; i++) free((void *)files[i]);
+    free(files);
+    free(pvd);
+    free(series);
+    tdir_list_free(&l);
+}
+
+static void read_params(const sl_case *c, srf_params *prm)
+{
+    char *path = path_of(c->dir, "system", "surfaceDict");
+    struct stat st;
+    if (stat(path, &st) != 0) {
+        srf_params_default(prm);
+        sl_info("No %s: the defaults (gridSpacing 0.5, isoValue 0.5, smoothing 0)", path);
+    } else {
+        sl_err err;
+        dict *d = dict_read_file(path, &err);
+        if (!d) sl_fatal("%s", err.msg);
+        srf_params_read(d, prm);
+        dict_free(d);
+    }
+    free(path);
+}
+
+int main(int argc, char **argv)
+{
+    sl_threads_passive(argv); /* before any parallel region */
+    app a;
+    app_parse(&a, &info, argc, argv);
+    const int par = app_found(&a, "parallel");
+    sl_case c;
+    tdir_list times;
+    srf_params prm;
+    case_read(&c, app_case(&a));
+    if (c.ctl.nthreads > 0) omp_set_num_threads(c.ctl.nthreads);
+    read_params(&c, &prm);
+    app_times(&a, c.dir, "fluid.vtu", 1, &times);
+    if (times.n == 0) sl_fatal("%s: no time directory with fluid.vtu selected", c.dir);
+    sl_progress prog;
+    sl_progress_start(&prog, stdout, 0, (double)times.n, 10);
+    double t0 = omp_get_wtime(), particle_sum = 0;
+    size_t done = 0;
+#pragma omp parallel for schedule(dynamic, 1) if (par)
+    for (size_t i = 0; i < times.n; i++) {
+        frame_stats st = one_time(&c, &prm, times.name[i], times.time[i]);
+        const double fluid = (double)st.n * c.prm.r0 * c.prm.r0 * c.prm.r0;
+#pragma omp critical
+        {
+            char what[64];
+            sl_info("Time = %s: %zu particles -> %zu triangles, area %.6g m^2, volume %.6g m^3 "
+                    "(%.2f %% of N r0^3), %.3f s",
+                    times.name[i], st.n, st.nt, st.area, st.volume,
+                    fluid > 0 ? 100.0 * st.volume / fluid : 0.0, st.seconds);
+            particle_sum += (double)st.n;
+            done++;
+            snprintf(what, sizeof what, "surface %zu of %zu", done, times.n);
+            sl_progress_update(&prog, (double)done, what);
+        }
+    }
+    sl_progress_end(&prog);
+    const double wall = omp_get_wtime() - t0;
+    write_collection(c.dir);
+    sl_info("reconstructSurface: %zu time%s in %.2f s wall (%s, %d thread%s): %.3f s per frame, "
+            "%.3g s per frame per million particles",
+            times.n, times.n == 1 ? "" : "s", wall, par ? "-parallel" : "threads per frame",
+            omp_get_max_threads(), omp_get_max_threads() == 1 ? "" : "s", wall / (double)times.n,
+            particle_sum > 0 ? wall / (particle_sum / 1e6) : 0.0);
+    tdir_list_free(&times);
+    case_free(&c);
+    app_free(&a);
+    return 0;
+}

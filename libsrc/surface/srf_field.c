@@ -1,0 +1,228 @@
+/*
+ * srf_field: the colour field of the particles on a grid, its smoothing,
+ * and the interpolation of particle fields to the surface's vertices (see
+ * surface.h).
+ *
+ * The particles are binned once into cells of size h, layer by layer in z
+ * (cz, then cy, then cx; a stable counting sort, so each cell keeps the
+ * input order).  The scatter gives each thread a block of SRF_PLANES grid
+ * planes and has it visit the particles of the cell layers that reach
+ * them: its writes are its own, and each grid value is the sum over the
+ * particles in the same order whatever the thread count.
+ */
+#include "surface/surface.h"
+
+#include "core/sl_mem.h"
+#include "kernel/kernel.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Grid planes per work unit of the scatter. */
+#define SRF_PLANES 4
+
+/* Particles binned into cells of size h (positions copied in cell order). */
+typedef struct srf_cells {
+    double lo[3], size;
+    int nc[3];
+    size_t *start;      /* cell c: [start[c], start[c + 1]) */
+    size_t *order;      /* order[s] = input index of sorted particle s */
+    double *x, *y, *z;  /* sorted copies */
+} srf_cells;
+
+static int clampi(long v, int lo, int hi) { return v < lo ? lo : v > hi ? hi : (int)v; }
+
+static void cells_build(srf_cells *c, const srf_particles *in, double h)
+{
+    double hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    const double *p[3] = {in->x, in->y, in->z};
+    for (int d = 0; d < 3; d++) c->lo[d] = INFINITY;
+    for (size_t i = 0; i < in->n; i++)
+        for (int d = 0; d < 3; d++) {
+            if (p[d][i] < c->lo[d]) c->lo[d] = p[d][i];
+            if (p[d][i] > hi[d]) hi[d] = p[d][i];
+        }
+    c->size = h;
+    for (int d = 0; d < 3; d++) c->nc[d] = (int)floor((hi[d] - c->lo[d]) / h) + 1;
+    size_t ncell = (size_t)c->nc[0] * (size_t)c->nc[1] * (size_t)c->nc[2];
+    size_t *cell = sl_malloc((in->n ? in->n : 1) * sizeof *cell, "surface cells");
+    c->start = sl_calloc(ncell + 1, sizeof *c->start, "surface cell starts");
+    for (size_t i = 0; i < in->n; i++) {
+        int q[3];
+        for (int d = 0; d < 3; d++)
+            q[d] = clampi((long)floor((p[d][i] - c->lo[d]) / h), 0, c->nc[d] - 1);
+        cell[i] = ((size_t)q[2] * (size_t)c->nc[1] + (size_t)q[1]) * (size_t)c->nc[0] +
+                  (size_t)q[0];
+        c->start[cell[i] + 1]++;
+    }
+    for (size_t k = 0; k < ncell; k++) c->start[k + 1] += c->start[k];
+    size_t *fill = sl_malloc((ncell + 1) * sizeof *fill, "surface cell fill");
+    memcpy(fill, c->start, (ncell + 1) * sizeof *fill);
+    c->order = sl_malloc((in->n ? in->n : 1) * sizeof *c->order, "surface order");
+    c->x = sl_malloc((in->n ? in->n : 1) * sizeof(double), "surface positions");
+    c->y = sl_malloc((in->n ? in->n : 1) * sizeof(double), "surface positions");
+    c->z = sl_malloc((in->n ? in->n : 1) * sizeof(double), "surface positions");
+    for (size_t i = 0; i < in->n; i++) {
+        size_t s = fill[cell[i]]++;
+        c->order[s] = i;
+        c->x[s] = in->x[i];
+        c->y[s] = in->y[i];
+        c->z[s] = in->z[i];
+    }
+    free(fill);
+    free(cell);
+}
+
+static void cells_free(srf_cells *c)
+{
+    free(c->start);
+    free(c->order);
+    free(c->x);
+    free(c->y);
+    free(c->z);
+}
+
+/* The first and last grid index within h of coordinate v along axis d. */
+static void grid_range(const srf_grid *g, int d, double v, double h, int *a, int *b)
+{
+    *a = clampi((long)ceil((v - h - g->lo[d]) / g->dx), 0, g->nc[d] - 1);
+    *b = clampi((long)floor((v + h - g->lo[d]) / g->dx), 0, g->nc[d] - 1);
+}
+
+/* Add particle (px, py, pz)'s share vol W to the planes [k0, k1) of g. */
+static void scatter_one(srf_grid *g, const krn_kernel *k, double vol, double px, double py,
+                        double pz, int k0, int k1)
+{
+    const double h = k->h, h2 = h * h, dx = g->dx;
+    int i0, i1, j0, j1, z0, z1;
+    grid_range(g, 0, px, h, &i0, &i1);
+    grid_range(g, 1, py, h, &j0, &j1);
+    grid_range(g, 2, pz, h, &z0, &z1);
+    if (z0 < k0) z0 = k0;
+    if (z1 > k1 - 1) z1 = k1 - 1;
+    for (int kk = z0; kk <= z1; kk++) {
+        const double dz = g->lo[2] + kk * dx - pz;
+        for (int j = j0; j <= j1; j++) {
+            const double dy = g->lo[1] + j * dx - py, r2yz = dy * dy + dz * dz;
+            if (r2yz >= h2) continue;
+            float *row = g->f + ((size_t)kk * (size_t)g->nc[1] + (size_t)j) * (size_t)g->nc[0];
+            for (int i = i0; i <= i1; i++) {
+                const double ddx = g->lo[0] + i * dx - px;
+                row[i] += (float)(vol * krn_w(k, sqrt(ddx * ddx + r2yz)));
+            }
+        }
+    }
+}
+
+void srf_colour_field(const srf_particles *in, double h, srf_grid *g)
+{
+    srf_cells c;
+    krn_kernel k;
+    const double vol = in->r0 * in->r0 * in->r0;
+    const size_t npts = (size_t)g->nc[0] * (size_t)g->nc[1] * (size_t)g->nc[2];
+    krn_init(&k, h);
+    cells_build(&c, in, h);
+    memset(g->f, 0, npts * sizeof *g->f);
+    const long nblocks = (g->nc[2] + SRF_PLANES - 1) / SRF_PLANES;
+    const size_t per_layer = (size_t)c.nc[0] * (size_t)c.nc[1];
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long b = 0; b < nblocks; b++) {
+        const int k0 = (int)(b * SRF_PLANES);
+        const int k1 = k0 + SRF_PLANES < g->nc[2] ? k0 + SRF_PLANES : g->nc[2];
+        const double zlo = g->lo[2] + k0 * g->dx - h, zhi = g->lo[2] + (k1 - 1) * g->dx + h;
+        const int c0 = clampi((long)floor((zlo - c.lo[2]) / h), 0, c.nc[2] - 1);
+        const int c1 = clampi((long)floor((zhi - c.lo[2]) / h), 0, c.nc[2] - 1);
+        for (size_t s = c.start[(size_t)c0 * per_layer]; s < c.start[(size_t)(c1 + 1) * per_layer];
+             s++)
+            scatter_one(g, &k, vol, c.x[s], c.y[s], c.z[s], k0, k1);
+    }
+    cells_free(&c);
+}
+
+/* One pass of [1 2 1]/4 along axis d from src into dst (outside: 0). */
+static void smooth_axis(const srf_grid *g, const float *src, float *dst, int d)
+{
+    const size_t nx = (size_t)g->nc[0], nxy = nx * (size_t)g->nc[1];
+    const size_t stride = d == 0 ? 1 : d == 1 ? nx : nxy;
+    const int n = g->nc[d];
+#pragma omp parallel for schedule(static)
+    for (long kk = 0; kk < g->nc[2]; kk++)
+        for (size_t j = 0; j < (size_t)g->nc[1]; j++)
+            for (size_t i = 0; i < nx; i++) {
+                const size_t at = (size_t)kk * nxy + j * nx + i;
+                const int q = d == 0 ? (int)i : d == 1 ? (int)j : (int)kk;
+                const float a = q > 0 ? src[at - stride] : 0.0f;
+                const float b = q < n - 1 ? src[at + stride] : 0.0f;
+                dst[at] = 0.25f * a + 0.5f * src[at] + 0.25f * b;
+            }
+}
+
+void srf_smooth(srf_grid *g, int passes)
+{
+    if (passes <= 0) return;
+    const size_t npts = (size_t)g->nc[0] * (size_t)g->nc[1] * (size_t)g->nc[2];
+    float *tmp = sl_malloc(npts * sizeof *tmp, "surface smoothing");
+    for (int p = 0; p < passes; p++)
+        for (int d = 0; d < 3; d++) {
+            smooth_axis(g, g->f, tmp, d);
+            float *t = g->f;
+            g->f = tmp;
+            tmp = t;
+        }
+    free(tmp);
+}
+
+void srf_interpolate(const srf_particles *in, double h, srf_mesh *m)
+{
+    if (!in->vx && !in->p) return;
+    srf_cells c;
+    krn_kernel k;
+    krn_init(&k, h);
+    cells_build(&c, in, h);
+    const size_t nv = m->nv ? m->nv : 1;
+    if (in->vx) {
+        m->vx = sl_malloc(nv * sizeof(double), "surface velocity");
+        m->vy = sl_malloc(nv * sizeof(double), "surface velocity");
+        m->vz = sl_malloc(nv * sizeof(double), "surface velocity");
+    }
+    if (in->p) m->p = sl_malloc(nv * sizeof(double), "surface pressure");
+    const double h2 = h * h;
+#pragma omp parallel for schedule(dynamic, 256)
+    for (size_t v = 0; v < m->nv; v++) {
+        const double q[3] = {m->x[v], m->y[v], m->z[v]};
+        int lo[3], hi[3];
+        double w = 0, a[4] = {0, 0, 0, 0};
+        for (int d = 0; d < 3; d++) {
+            lo[d] = clampi((long)floor((q[d] - h - c.lo[d]) / h), 0, c.nc[d] - 1);
+            hi[d] = clampi((long)floor((q[d] + h - c.lo[d]) / h), 0, c.nc[d] - 1);
+        }
+        for (int cz = lo[2]; cz <= hi[2]; cz++)
+            for (int cy = lo[1]; cy <= hi[1]; cy++) {
+                const size_t row = ((size_t)cz * (size_t)c.nc[1] + (size_t)cy) * (size_t)c.nc[0];
+                for (size_t s = c.start[row + (size_t)lo[0]]; s < c.start[row + (size_t)hi[0] + 1];
+                     s++) {
+                    const double ddx = c.x[s] - q[0], ddy = c.y[s] - q[1], ddz = c.z[s] - q[2];
+                    const double r2 = ddx * ddx + ddy * ddy + ddz * ddz;
+                    if (r2 >= h2) continue;
+                    const double wj = krn_w(&k, sqrt(r2));
+                    const size_t j = c.order[s];
+                    w += wj;
+                    if (in->vx) {
+                        a[0] += wj * in->vx[j];
+                        a[1] += wj * in->vy[j];
+                        a[2] += wj * in->vz[j];
+                    }
+                    if (in->p) a[3] += wj * in->p[j];
+                }
+            }
+        const double inv = w > 0 ? 1.0 / w : 0.0;
+        if (in->vx) {
+            m->vx[v] = a[0] * inv;
+            m->vy[v] = a[1] * inv;
+            m->vz[v] = a[2] * inv;
+        }
+        if (in->p) m->p[v] = a[3] * inv;
+    }
+    cells_free(&c);
+}
