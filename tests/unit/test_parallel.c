@@ -186,6 +186,30 @@ static void test_mpirun_without_parallel(void **state)
     assert_int_not_equal(system("test -d tests/output/parNoFlag/0"), 0); /* nothing written */
 }
 
+/* decomposeCase: the partitions of damBreakShort's 9216 fluid particles
+ * over 3 ranks, 3072 each, and the VTU for ParaView (no MPI needed). */
+static void test_decompose_case(void **state)
+{
+    (void)state;
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "rm -rf tests/output/parDecompose && cp -r tests/cases/damBreakShort "
+             "tests/output/parDecompose && %s/decomposeCase -case tests/output/parDecompose "
+             "-np 3 > tests/output/parDecompose/log.decomposeCase 2>&1",
+             bin_dir());
+    assert_int_equal(system(cmd), 0);
+    const char *kinds[] = {"rows", "slabs", "rcb"};
+    for (int k = 0; k < 3; k++) {
+        snprintf(cmd, sizeof cmd,
+                 "grep -Eq '^%s +3072 +3072 +1.000 ' tests/output/parDecompose/log.decomposeCase",
+                 kinds[k]);
+        assert_int_equal(system(cmd), 0);
+    }
+    assert_int_equal(system("grep -q rcbRank "
+                            "tests/output/parDecompose/postProcessing/decomposeCase/fluid.vtu"),
+                     0);
+}
+
 int main(void)
 {
     /* CI runs as root: Open MPI refuses that unless told */
@@ -195,7 +219,7 @@ int main(void)
         cmocka_unit_test(test_dam_break_np123),         cmocka_unit_test(test_ranks_times_threads),
         cmocka_unit_test(test_moving_boundary),         cmocka_unit_test(test_emitter),
         cmocka_unit_test(test_restart_2_then_3),        cmocka_unit_test(test_periodic),
-        cmocka_unit_test(test_mpirun_without_parallel),
+        cmocka_unit_test(test_mpirun_without_parallel), cmocka_unit_test(test_decompose_case),
     };
     return cmocka_run_group_tests_name("parallel", tests, NULL, NULL);
 }
