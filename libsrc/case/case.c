@@ -172,7 +172,59 @@ static void read_shape_geometry(sl_case *c, const dict *s, geo_shape *g, geo_kin
 
 static const char *const region_keys[] = {"type", "min", "max", "centre", "radius", "point1",
                                           "point2", "file", "scale", "rotate", "translate",
-                                          "velocity", NULL};
+                                          "velocity", "velocityField", NULL};
+
+/* A region's velocityField { }: an initial velocity field added to its
+ * uniform velocity, for the verification cases (doc/verification.md):
+ *   taylorGreen   u = U sin(k x) cos(k y), v = -U cos(k x) sin(k y),
+ *                 k = 2 pi / L, x and y from 0 (a periodic box of period L)
+ *   standingWave  the linear standing wave eta = A cos(k x') sin(w t) at
+ *                 t = 0 (flat surface, largest velocity): u = -A w cosh(k z')
+ *                 sin(k x') / sinh(k H), w = A w sinh(k z') cos(k x') /
+ *                 sinh(k H), k = pi / L, w^2 = g k tanh(k H), x' and z'
+ *                 from the region's min, H its height (a box)
+ * with U or A the amplitude and L the length. */
+static void read_velocity_field(const dict *r, case_region *g)
+{
+    static const char *const types[] = {"taylorGreen", "standingWave", NULL};
+    static const char *const keys[] = {"type", "amplitude", "length", NULL};
+    sl_err err;
+    const char *w;
+    const dict *v = dict_sub(r, "velocityField");
+    if (!v) dict_fatal(r, "velocityField", "must be a dictionary { type taylorGreen; amplitude ..; length ..; }");
+    dict_warn_unknown(v, keys);
+    need(dict_get_word(v, "type", &w, &err), &err);
+    g->field = 1 + choose(v, "type", w, types);
+    need(dict_get_scalar(v, "amplitude", &g->field_amplitude, &err), &err);
+    need(dict_get_scalar(v, "length", &g->field_length, &err), &err);
+    dict_need_positive(v, "length", g->field_length);
+    if (g->field == CASE_FIELD_STANDING_WAVE && g->shape.kind != GEO_BOX)
+        dict_fatal(v, "type", "standingWave needs a region of type box");
+}
+
+/* Add region g's velocity field to fluid particles [from, n). */
+static void apply_velocity_field(const case_region *g, const double gravity[3], sl_fluid *f,
+                                 size_t from)
+{
+    const double pi = 3.14159265358979323846, A = g->field_amplitude;
+    if (g->field == CASE_FIELD_TAYLOR_GREEN) {
+        const double k = 2.0 * pi / g->field_length;
+        for (size_t i = from; i < f->n; i++) {
+            f->vx[i] += A * sin(k * f->x[i]) * cos(k * f->y[i]);
+            f->vy[i] -= A * cos(k * f->x[i]) * sin(k * f->y[i]);
+        }
+    } else if (g->field == CASE_FIELD_STANDING_WAVE) {
+        const double k = pi / g->field_length, H = g->shape.hi[2] - g->shape.lo[2];
+        const double gm = sqrt(gravity[0] * gravity[0] + gravity[1] * gravity[1] +
+                               gravity[2] * gravity[2]);
+        const double w = sqrt(gm * k * tanh(k * H)), c = A * w / sinh(k * H);
+        for (size_t i = from; i < f->n; i++) {
+            const double x = f->x[i] - g->shape.lo[0], z = f->z[i] - g->shape.lo[2];
+            f->vx[i] -= c * cosh(k * z) * sin(k * x);
+            f->vz[i] += c * sinh(k * z) * cos(k * x);
+        }
+    }
+}
 
 static void read_region(sl_case *c, const dict *r, const dict_entry *at)
 {
@@ -192,6 +244,7 @@ static void read_region(sl_case *c, const dict *r, const dict_entry *at)
     set_where(&g->where, at);
     read_shape_geometry(c, r, &g->shape, kinds[kind], 1);
     need(dict_get_vector_or(r, "velocity", zero, g->velocity, &err), &err);
+    if (dict_has(r, "velocityField")) read_velocity_field(r, g);
 }
 
 static const char *const emitter_keys[] = {"type", "centre", "direction", "size", "radius",
@@ -606,7 +659,9 @@ void case_read(sl_case *c, const char *dir)
     if (ts_validate(&c->ts, c->prm.eta, &err))
         sl_fatal("%s/system/timeStepDict: %s (with eta = %g %% in constant/fluidProperties)",
                  c->dir, err.msg, 100 * c->prm.eta);
-    if (c->ts.mode == TS_ADAPTIVE) /* Sec. 3.3: exactly `iterations` per step */
+    if (ts_is_cost(&c->ts)) /* to eta on average, minIterations..maxIterations */
+        c->prm.stop_max = c->ts.cost_max_density * c->prm.eta;
+    else if (c->ts.mode == TS_ADAPTIVE) /* Sec. 3.3: exactly `iterations` per step */
         c->prm.min_iter = c->prm.max_iter = c->ts.iterations;
 }
 
@@ -862,6 +917,7 @@ void case_build(sl_case *c)
                      "(outside the container, inside an obstacle, or smaller than "
                      "particleSpacing %g)", c->dir, g->name, r0);
         check_overlap(c, r, from);
+        apply_velocity_field(g, c->prm.gravity, &c->fluid, from);
         double lo[3], hi[3];
         geo_bounds(&g->shape, r0, lo, hi);
         grow_bounds(c->lo, c->hi, lo, hi);

@@ -48,7 +48,13 @@ typedef struct case_region {
     case_where where;          /* of its entry in fluidRegions */
     geo_shape shape;           /* box, sphere, cylinder or closed mesh */
     double velocity[3];
+    /* velocityField { type taylorGreen | standingWave; amplitude; length; }
+     * added to velocity (verification cases, doc/verification.md) */
+    int field;                 /* CASE_FIELD_* */
+    double field_amplitude, field_length;
 } case_region;
+
+enum { CASE_FIELD_NONE, CASE_FIELD_TAYLOR_GREEN, CASE_FIELD_STANDING_WAVE };
 
 typedef struct sl_case {
     char *dir;

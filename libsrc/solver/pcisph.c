@@ -626,13 +626,22 @@ static double average_error(const pcs_solver *s, const double *err)
     return average_of(s, sl_sum(err, s->f->n));
 }
 
+/* Whether a prediction with largest error emax (and average from
+ * s->err_sum) ends the iterations (after minIterations). */
+static int reached_eta(const pcs_solver *s, double emax)
+{
+    if (s->prm.stop_max > 0.0)
+        return emax <= s->prm.stop_max * s->prm.rho0 && average_of(s, s->err_sum) <= s->prm.eta;
+    return emax <= s->eta_abs;
+}
+
 /* The statistics of the last prediction (err_max: emax). */
 static void solve_stats(const pcs_solver *s, pcs_stats *st, int k, double emax)
 {
     const size_t n = s->f->n;
     const double rho0 = s->prm.rho0;
     st->iterations = k;
-    st->converged = emax <= s->eta_abs;
+    st->converged = reached_eta(s, emax);
     st->err_max = emax / rho0;
     st->err_avg = average_of(s, s->err_sum); /* the last prediction's */
     if (s->prm.method->wall_density) {
@@ -681,7 +690,7 @@ static void pressure_solve(pcs_solver *s, pcs_stats *st)
         }
         PHASE(s, pressure, s->passes->pressure(s));          /* F^p, eq. (6) */
         k++;
-        if (k >= s->prm.max_iter || (k >= s->prm.min_iter && emax <= s->eta_abs)) break;
+        if (k >= s->prm.max_iter || (k >= s->prm.min_iter && reached_eta(s, emax))) break;
     }
     solve_stats(s, st, k, emax);
 }
@@ -738,7 +747,9 @@ pcs_view pcs_view_of(const pcs_solver *s)
 {
     return (pcs_view){.f = s->f, .b = s->b, .grid = &s->grid, .bf = &s->bf, .k = s->k,
                       .h = s->h, .r0 = s->prm.r0, .mass = s->mass, .rho0 = s->prm.rho0,
-                      .gravity = s->prm.gravity};
+                      .gravity = s->prm.gravity,
+                      .periodic = s->prm.periodic.axes ? &s->prm.periodic : NULL,
+                      .boundary_images = s->halo.nb_img > 0};
 }
 
 void pcs_compute_density(pcs_solver *s)

@@ -4,7 +4,8 @@
  *
  *   find neighbours (fluid and boundary)
  *   compute non-pressure forces; p = 0, F^p = 0 for fluid and boundary
- *   repeat (at least min_iter times, until max rho_err* <= eta or max_iter):
+ *   repeat (at least min_iter times, until max rho_err* <= eta or max_iter;
+ *   with stop_max > 0: until avg rho_err* <= eta and max rho_err* <= stop_max):
  *       predict velocity and position; predict world collision (eq. 9-11)
  *       predict density of fluid and boundary particles (eq. 13),
  *       update their pressure p += delta rho_err* (eq. 3)
@@ -36,6 +37,9 @@ typedef struct pcs_params {
     double gravity[3];
     double eta;           /* tolerated density error, fraction of rho0 (0.01 = 1 %) */
     int min_iter, max_iter;
+    double stop_max;      /* > 0: the iterations stop when the average compression is at
+                           * most eta and the largest at most stop_max (fractions of rho0;
+                           * time-step controller cost); 0: when the largest is at most eta */
     double epsilon;       /* eq. (12): tangential velocity kept on contact */
     const bnd_method_type *method; /* boundary handling (constant/boundaryProperties) */
     double restitution;   /* becker2009: delta of eq. (7) */
@@ -137,6 +141,11 @@ typedef struct pcs_view {
     krn_kernel k;
     double h, r0, mass, rho0;
     const double *gravity;
+    /* periodic axes (NULL or axes 0: none); boundary_images: b holds the
+     * boundary images (a running solver) rather than only the real
+     * particles (a snapshot read back from boundary.vtu) */
+    const dom_periodic *periodic;
+    int boundary_images;
 } pcs_view;
 
 /* The view of s's state. */

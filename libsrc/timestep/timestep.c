@@ -136,7 +136,7 @@ static unsigned evaluate(const ts_params *p, const ts_state *s, double eta_avg, 
 
 /* dt_new of eq. (24), never above shockMaxRatio dt so that the repeated
  * steps differ from the ones that failed. */
-static double shock_step(const ts_params *p, double dt, double h, const ts_obs *o, unsigned *c)
+double ts_shock_step(const ts_params *p, double dt, double h, const ts_obs *o, unsigned *c)
 {
     double next = p->shock_max_ratio * dt;
     unsigned why = TS_LIMIT_RATIO;
@@ -160,7 +160,7 @@ static ts_action decide(const ts_params *p, ts_state *s, double h, const ts_obs 
     double next = dt;
     ts_action a = TS_KEEP;
     if (*c & TS_SHOCK_ANY) {
-        next = shock_step(p, dt, h, o, c);
+        next = ts_shock_step(p, dt, h, o, c);
         a = TS_SHOCK;
     } else if (*c & TS_DECREASE_ANY) {
         next = dt * p->decrease_factor;
@@ -211,7 +211,12 @@ ts_action ts_update(const ts_params *p, ts_state *s, double eta_avg, double h,
     s->prev_err_max = o->err_max; /* history of eq. (25) */
     s->have_prev = 1;
     const double dt_used = s->dt;
-    if (p->mode == TS_ADAPTIVE) a = decide(p, s, h, o, &c);
+    if (ts_is_cost(p)) {
+        a = ts_cost_decide(p, s, eta_avg, h, o, &c);
+        if (s->dt < p->delta_t_min || !(s->dt > 0.0)) a = TS_TOO_SMALL;
+    } else if (p->mode == TS_ADAPTIVE) {
+        a = decide(p, s, h, o, &c);
+    }
     switch (a) {
     case TS_KEEP: n->keep++; break;
     case TS_INCREASE: n->increase++; break;
@@ -296,6 +301,8 @@ void ts_criteria_text(const ts_params *p, unsigned c, char *buf, size_t len)
         if (c & TS_C26)
             item(buf, len, "(26) rho_err_max > eta_max = %g eta_avg", p->eta_max_factor);
         if (c & TS_C27) item(buf, len, "(27) %g h/vmax < dt", p->shock_velocity_cfl);
+    } else if (ts_is_cost(p)) {
+        /* the cost controller's reasons follow */
     } else if (c & TS_DECREASE_ANY) {
         if (c & TS_C20) item(buf, len, "(20) %g sqrt(h/Fmax) < dt", p->decrease_force);
         if (c & TS_C21) item(buf, len, "(21) rho_err_max > %g eta_avg", p->decrease_max_density);
@@ -308,4 +315,13 @@ void ts_criteria_text(const ts_params *p, unsigned c, char *buf, size_t len)
     if (c & TS_C24_VELOCITY) item(buf, len, "dt_new = %g h/vmax (24)", p->shock_velocity);
     if (c & TS_LIMIT_RATIO) item(buf, len, "dt_new = %g dt (shockMaxRatio)", p->shock_max_ratio);
     if (c & TS_LIMIT_MAX) item(buf, len, "limited by deltaTMax");
+    if (c & TS_COST_ABOVE) item(buf, len, "cost: rho_err_avg above eta after the iterations");
+    if (c & TS_COST_SHORT)
+        item(buf, len, "cost: rho_err_max above %g eta_avg after the iterations",
+             p->cost_max_density);
+    if (c & TS_COST_FEWER)
+        item(buf, len, "cost: fewer iterations than targetIterations %g", p->target_iterations);
+    if (c & TS_COST_MORE)
+        item(buf, len, "cost: more iterations than targetIterations %g", p->target_iterations);
+    if (c & TS_COST_LIMIT) item(buf, len, "cost: limited by (16), (19) or deltaTMax");
 }

@@ -36,9 +36,25 @@
 
 typedef enum { TS_CONSTANT, TS_ADAPTIVE } ts_mode;
 
+/* Adaptive mode's controller (`controller`):
+ *   ihmsen2010  the paper's (Sec. 3.3): exactly `iterations` PCISPH
+ *               iterations per step, dt by (16)-(23) in 0.2 % steps
+ *   cost        not in the paper (ts_cost.c, doc/timestep-cost.md): every
+ *               step iterates until the average compression is at most eta
+ *               (and the largest at most costMaxDensity eta), between
+ *               minIterations and maxIterations of constant/fluidProperties,
+ *               and dt is steered to the step where a simulated second costs
+ *               least: up by costIncreaseFactor while a step needs fewer than
+ *               targetIterations iterations, down by costDecreaseFactor while
+ *               it needs more; never above what (16) and (19) allow.  A step
+ *               whose average compression stays above eta is a shock (back
+ *               two steps, eq. 24), as are (25)-(27). */
+typedef enum { TS_IHMSEN2010, TS_COST } ts_controller;
+
 /* Every constant of eq. (16)-(27), by its timeStepDict key. */
 typedef struct ts_params {
     ts_mode mode;                /* mode */
+    ts_controller controller;    /* controller (adaptive mode) */
     double delta_t;              /* deltaT: the step (constant); adaptive: initial
                                   * step, 0 = estimate it (ts_initial) */
     double delta_t_min;          /* deltaTMin: below it the run is unstable; 0 = none */
@@ -62,6 +78,13 @@ typedef struct ts_params {
     double shock_velocity_cfl;   /* shockVelocityCFL: 0.45, eq. (27) */
     double shock_max_ratio;      /* shockMaxRatio: 0.5, dt_new <= ratio dt (not in
                                   * the paper: a shock must shrink the step) */
+    /* controller cost (not in the paper) */
+    double target_iterations;    /* targetIterations: iterations per step at the
+                                  * cheapest step */
+    double cost_increase_factor; /* costIncreaseFactor: 1.01 */
+    double cost_decrease_factor; /* costDecreaseFactor: 0.98 */
+    double cost_max_density;     /* costMaxDensity: the iterations go on while
+                                  * rho_err_max > costMaxDensity eta_avg */
 } ts_params;
 
 /* The paper's values (and mode adaptive, deltaT 0 = estimated). */
@@ -81,6 +104,12 @@ const char *const *ts_keys(void);
 /* Value of a numeric key (everything but `mode`); 0 if known, else -1. */
 int ts_param_value(const ts_params *p, const char *key, double *value);
 const char *ts_mode_name(ts_mode m);
+const char *ts_controller_name(ts_controller c);
+/* Adaptive mode with controller cost. */
+static inline int ts_is_cost(const ts_params *p)
+{
+    return p->mode == TS_ADAPTIVE && p->controller == TS_COST;
+}
 /* Write the parameters actually used, as timeStepDict entries. */
 void ts_write(const ts_params *p, FILE *f);
 
@@ -144,6 +173,7 @@ typedef struct ts_obs {
     double fmax;             /* max |F / m|, m/s^2 */
     int converged;           /* the iterations reached eta */
     int iterating;           /* iterating to convergence (maxIterations > minIterations) */
+    int iterations;          /* PCISPH iterations of the step (controller cost) */
 } ts_obs;
 
 /* What to do after a step.  The first four go on (a shock: back two
@@ -180,9 +210,24 @@ const char *ts_failure(ts_action a);
 #define TS_LIMIT_RATIO (1u << 13)  /* dt_new limited to shockMaxRatio dt */
 #define TS_LIMIT_MAX (1u << 14)    /* increase limited by deltaTMax */
 #define TS_NONFINITE (1u << 15)    /* an observation is NaN or infinite */
+#define TS_COST_FEWER (1u << 16)   /* cost: fewer iterations than targetIterations */
+#define TS_COST_MORE (1u << 17)    /* cost: more iterations than targetIterations */
+#define TS_COST_LIMIT (1u << 18)   /* cost: next step limited by (16), (19) or deltaTMax */
+#define TS_COST_ABOVE (1u << 19)   /* cost: the average compression stayed above eta */
+#define TS_COST_SHORT (1u << 20)   /* cost: the largest compression stayed above
+                                    * costMaxDensity eta: dt *= costDecreaseFactor^5 */
 #define TS_INCREASE_ALL (TS_C16 | TS_C17 | TS_C18 | TS_C19)
 #define TS_DECREASE_ANY (TS_C20 | TS_C21 | TS_C22 | TS_C23)
 #define TS_SHOCK_ANY (TS_C25 | TS_C26 | TS_C27 | TS_NONFINITE)
+
+/* Controller cost: the next step after a step taken with s->dt whose
+ * criteria are *c (evaluate's flags, to which it adds TS_COST_*): see
+ * ts_controller.  Returns TS_SHOCK (s->dt = dt_new), TS_INCREASE,
+ * TS_DECREASE or TS_KEEP.  Called by ts_update. */
+ts_action ts_cost_decide(const ts_params *p, ts_state *s, double eta_avg, double h,
+                         const ts_obs *o, unsigned *c);
+/* dt_new of eq. (24), at most shockMaxRatio dt (adds TS_C24_* or TS_LIMIT_RATIO to *c). */
+double ts_shock_step(const ts_params *p, double dt, double h, const ts_obs *o, unsigned *c);
 
 /* After a step taken with s->dt: evaluate (16)-(23) and (25)-(27), record
  * rho_err_max for (25) and set s->dt to the next step.  Precedence: shock,

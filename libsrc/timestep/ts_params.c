@@ -41,6 +41,11 @@ void ts_params_default(ts_params *p)
     p->shock_velocity = 0.25;        /* eq. (24) */
     p->shock_velocity_cfl = 0.45;    /* eq. (27) */
     p->shock_max_ratio = 0.5;        /* not in the paper, see timestep.h */
+    p->controller = TS_IHMSEN2010;   /* the paper's */
+    p->target_iterations = 8;        /* controller cost: doc/timestep-cost.md */
+    p->cost_increase_factor = 1.01;
+    p->cost_decrease_factor = 0.98;
+    p->cost_max_density = 8;
 }
 
 /* ---- the keys: one list for reading, writing, checking and tests ---- */
@@ -66,7 +71,11 @@ void ts_params_default(ts_params *p)
     X("shockForce", shock_force, 0)                  \
     X("shockVelocity", shock_velocity, 0)            \
     X("shockVelocityCFL", shock_velocity_cfl, 0)     \
-    X("shockMaxRatio", shock_max_ratio, 0)
+    X("shockMaxRatio", shock_max_ratio, 0)           \
+    X("targetIterations", target_iterations, 0)      \
+    X("costIncreaseFactor", cost_increase_factor, 0) \
+    X("costDecreaseFactor", cost_decrease_factor, 0) \
+    X("costMaxDensity", cost_max_density, 0)
 
 typedef struct ts_scalar_key {
     const char *name;
@@ -78,7 +87,8 @@ typedef struct ts_scalar_key {
 #define TS_KEY_NAME(name, field, zero_ok) name,
 
 static const ts_scalar_key scalar_keys[] = {TS_SCALARS(TS_KEY_ENTRY)};
-static const char *const key_names[] = {"mode", "iterations", TS_SCALARS(TS_KEY_NAME) NULL};
+static const char *const key_names[] = {"mode", "controller", "iterations",
+                                        TS_SCALARS(TS_KEY_NAME) NULL};
 #define NSCALARS (sizeof scalar_keys / sizeof scalar_keys[0])
 
 static double *field(ts_params *p, size_t i) { return (double *)((char *)p + scalar_keys[i].off); }
@@ -91,6 +101,8 @@ static double cfield(const ts_params *p, size_t i)
 const char *const *ts_keys(void) { return key_names; }
 
 const char *ts_mode_name(ts_mode m) { return m == TS_CONSTANT ? "constant" : "adaptive"; }
+
+const char *ts_controller_name(ts_controller c) { return c == TS_COST ? "cost" : "ihmsen2010"; }
 
 int ts_param_value(const ts_params *p, const char *key, double *value)
 {
@@ -109,6 +121,7 @@ int ts_param_value(const ts_params *p, const char *key, double *value)
 void ts_write(const ts_params *p, FILE *f)
 {
     fprintf(f, "%-19s %s;\n", "mode", ts_mode_name(p->mode));
+    fprintf(f, "%-19s %s;\n", "controller", ts_controller_name(p->controller));
     fprintf(f, "%-19s %d;\n", "iterations", p->iterations);
     for (size_t i = 0; i < NSCALARS; i++)
         fprintf(f, "%-19s %.15g;\n", scalar_keys[i].name, cfield(p, i));
@@ -193,6 +206,21 @@ static const char *check(const ts_params *p, double eta_avg, char *why, size_t l
         return reject(why, len, "increaseFactor", "%g must be larger than 1", p->increase_factor);
     if (!(p->decrease_factor < 1.0))
         return reject(why, len, "decreaseFactor", "%g must be smaller than 1", p->decrease_factor);
+    if (!(p->cost_increase_factor > 1.0))
+        return reject(why, len, "costIncreaseFactor", "%g must be larger than 1",
+                      p->cost_increase_factor);
+    if (!(p->cost_decrease_factor < 1.0))
+        return reject(why, len, "costDecreaseFactor", "%g must be smaller than 1",
+                      p->cost_decrease_factor);
+    if (!(p->target_iterations >= 1.0 && p->target_iterations <= TS_MAX_ITERATIONS))
+        return reject(why, len, "targetIterations", "%g must be between 1 and %d",
+                      p->target_iterations, TS_MAX_ITERATIONS);
+    if (p->controller == TS_COST &&
+        !(p->cost_max_density >= 1.0 && p->cost_max_density < p->eta_max_factor))
+        return reject(why, len, "costMaxDensity",
+                      "%g must be at least 1 and below etaMaxFactor %g (a step the iterations "
+                      "end at rho_err_max > eta_max would be a shock, eq. 26)",
+                      p->cost_max_density, p->eta_max_factor);
     if (!(p->shock_max_ratio < 1.0))
         return reject(why, len, "shockMaxRatio", "%g must be smaller than 1 (a shock must shrink "
                       "the step, or the rolled-back steps repeat)", p->shock_max_ratio);
@@ -233,6 +261,15 @@ void ts_read(const dict *d, ts_params *p)
     else {
         snprintf(why, sizeof why, "'%s' is not one of: constant adaptive", w);
         bad_value(d, "mode", why);
+    }
+    need(dict_get_word_or(d, "controller", ts_controller_name(p->controller), &w, &err), &err);
+    if (strcmp(w, "cost") == 0)
+        p->controller = TS_COST;
+    else if (strcmp(w, "ihmsen2010") == 0)
+        p->controller = TS_IHMSEN2010;
+    else {
+        snprintf(why, sizeof why, "'%s' is not one of: ihmsen2010 cost", w);
+        bad_value(d, "controller", why);
     }
     if (p->mode == TS_CONSTANT) need(dict_get_scalar(d, "deltaT", &p->delta_t, &err), &err);
     for (size_t i = 0; i < NSCALARS; i++)

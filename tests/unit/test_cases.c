@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define MAXV 64
 
@@ -253,6 +254,68 @@ static void test_threads_bit_identical(void **state)
     assert_true(files_equal("tests/output/threads1/0.1/boundary.vtu", "tests/output/threads2/0.1/boundary.vtu"));
 }
 
+/* The edits that put damBreakShort under the cost controller at eta 0.2 %
+ * (3-50 iterations), endTime 0.3 s, writes every 0.1 s. */
+#define COST_EDIT                                                                              \
+    "sed -i 's/^endTime .*/endTime 0.3;/; s/^writeInterval .*/writeInterval 0.1;/' "           \
+    "system/controlDict && printf 'mode adaptive;\\ndeltaT 0;\\ncontroller cost;\\n' > "       \
+    "system/timeStepDict && sed -i 's/^eta .*/eta 0.2;/' constant/fluidProperties"
+
+/* controller cost: every kept step ends with rho_err avg <= eta (the
+ * iterations go on until it does); the step grows by 1 % at most; the steps
+ * iterate more than the paper's 3 and the step grows beyond the start. */
+static void test_cost_controller(void **state)
+{
+    (void)state;
+    assert_int_equal(run_edited("tests/cases/damBreakShort", "costA", COST_EDIT), 0);
+    record r = read_record("costA", "0");
+    assert_true(r.n > 20);
+    double iters = 0, kmax = 0;
+    int kept = 0;
+    for (size_t i = 0; i < r.n; i++) {
+        double *row = r.row[i];
+        if (row[7] != 0.0) continue; /* shock: discarded */
+        kept++;
+        iters += row[2];
+        if (row[2] > kmax) kmax = row[2];
+        if (!(row[3] <= 0.2 + 1e-9)) fail_msg("t = %g: rho_err avg %g %% above eta", row[0], row[3]);
+        if (i > 0 && r.row[i - 1][7] == 0.0 && !(row[9] <= 1.01 * r.row[i - 1][9] * (1 + 1e-12)))
+            fail_msg("t = %g: dt grew from %g to %g", row[0], r.row[i - 1][9], row[9]);
+    }
+    print_message("cost: %d steps kept, mean iterations %.2f, max %g, last dt %g (first %g)\n",
+                  kept, iters / kept, kmax, r.row[r.n - 1][9], r.row[0][1]);
+    assert_true(iters / kept > 3.0);
+    assert_true(r.row[r.n - 1][9] > 1.5 * r.row[0][1]);
+    free(r.row);
+    facts f = inspect("costA", "--lo 0 0 0 --hi 1.6 0.6 0.8");
+    assert_int_equal((int)fact(&f, "nan"), 0);
+    assert_int_equal((int)fact(&f, "outside"), 0);
+}
+
+/* controller cost: a restart from 0.1 s gives the uninterrupted run's
+ * output bit for bit (the controller's state is in the restart file), and
+ * one thread gives the two threads' output. */
+static void test_cost_restart_and_threads(void **state)
+{
+    (void)state;
+    if (access("tests/output/costA/0.3/fluid.vtu", F_OK) != 0)
+        assert_int_equal(run_edited("tests/cases/damBreakShort", "costA", COST_EDIT), 0);
+    assert_int_equal(run_edited("tests/cases/damBreakShort", "costB",
+                                COST_EDIT " && sed -i 's/^endTime .*/endTime 0.1;/; "
+                                "s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict"),
+                     0);
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "sed -i 's/^endTime .*/endTime 0.3;/; s/^startFrom .*/startFrom latestTime;/; "
+             "s/^numberOfThreads .*/numberOfThreads 2;/' tests/output/costB/system/controlDict && "
+             "%s/pcisph -case tests/output/costB -quiet > tests/output/costB/log.restart 2>&1",
+             bin_dir());
+    assert_int_equal(system(cmd), 0);
+    assert_true(files_equal("tests/output/costA/0.1/fluid.vtu", "tests/output/costB/0.1/fluid.vtu"));
+    assert_true(files_equal("tests/output/costA/0.2/fluid.vtu", "tests/output/costB/0.2/fluid.vtu"));
+    assert_true(files_equal("tests/output/costA/0.3/fluid.vtu", "tests/output/costB/0.3/fluid.vtu"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -262,6 +325,8 @@ int main(void)
         cmocka_unit_test(test_hydrostatic_adaptive),
         cmocka_unit_test(test_restart_bit_identical),
         cmocka_unit_test(test_threads_bit_identical),
+        cmocka_unit_test(test_cost_controller),
+        cmocka_unit_test(test_cost_restart_and_threads),
     };
     return cmocka_run_group_tests_name("cases", tests, NULL, NULL);
 }

@@ -63,15 +63,24 @@ static void same_output(const char *a, const char *b)
              "|| exit 1; n=$((n + 1)); done && [ $n -ge 2 ] && "
              "cut -f1-8,10- %s/postProcessing/timeStep/0/timeStep.dat > %s.rec && "
              "cut -f1-8,10- %s/postProcessing/timeStep/0/timeStep.dat > %s.rec && "
-             "cmp %s.rec %s.rec",
-             a, a, a, b, b, b, a, b, a, a, b, a, b, a, a, b, b, a, b);
+             "cmp %s.rec %s.rec && for f in $(cd %s && ls postProcessing/*/0/*.dat | grep -v "
+             "timeStep); do cmp %s/$f %s/$f || exit 1; done",
+             a, a, a, b, b, b, a, b, a, a, b, a, b, a, a, b, b, a, b, a, a, b);
     int rc = system(cmd);
     if (rc) fail_msg("tests/output/%s and tests/output/%s differ", a, b);
 }
 
+/* damBreakShort to 0.04 s with every type of function object: their files
+ * are compared too (probes of pressure, density and velocity in the column
+ * and near the wall, gauges, density error percentiles, energy). */
 static const char *dam =
     "sed -i 's/^endTime .*/endTime 0.04;/; s/^writeInterval .*/writeInterval 0.02;/; "
-    "s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict";
+    "s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict && "
+    "printf 'functions\\n{\\n densityError { type densityError; percentiles (50 90 99); }\\n"
+    " probes { type probes; fields (pressure density velocity); "
+    "probeLocations ((0.2 0.3 0.1) (0.41 0.3 0.3) (0.02 0.3 0.02)); }\\n"
+    " gauges { type waterGauges; gaugeLocations ((0.2 0.3) (0.5 0.3)); }\\n"
+    " energy { type energy; }\\n}\\n' >> system/controlDict";
 
 static void test_dam_break_np123(void **state)
 {
@@ -186,6 +195,30 @@ static void test_mpirun_without_parallel(void **state)
     assert_int_not_equal(system("test -d tests/output/parNoFlag/0"), 0); /* nothing written */
 }
 
+/* decomposeCase: the partitions of damBreakShort's 9216 fluid particles
+ * over 3 ranks, 3072 each, and the VTU for ParaView (no MPI needed). */
+static void test_decompose_case(void **state)
+{
+    (void)state;
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "rm -rf tests/output/parDecompose && cp -r tests/cases/damBreakShort "
+             "tests/output/parDecompose && %s/decomposeCase -case tests/output/parDecompose "
+             "-np 3 > tests/output/parDecompose/log.decomposeCase 2>&1",
+             bin_dir());
+    assert_int_equal(system(cmd), 0);
+    const char *kinds[] = {"rows", "slabs", "rcb"};
+    for (int k = 0; k < 3; k++) {
+        snprintf(cmd, sizeof cmd,
+                 "grep -Eq '^%s +3072 +3072 +1.000 ' tests/output/parDecompose/log.decomposeCase",
+                 kinds[k]);
+        assert_int_equal(system(cmd), 0);
+    }
+    assert_int_equal(system("grep -q rcbRank "
+                            "tests/output/parDecompose/postProcessing/decomposeCase/fluid.vtu"),
+                     0);
+}
+
 int main(void)
 {
     /* CI runs as root: Open MPI refuses that unless told */
@@ -195,7 +228,7 @@ int main(void)
         cmocka_unit_test(test_dam_break_np123),         cmocka_unit_test(test_ranks_times_threads),
         cmocka_unit_test(test_moving_boundary),         cmocka_unit_test(test_emitter),
         cmocka_unit_test(test_restart_2_then_3),        cmocka_unit_test(test_periodic),
-        cmocka_unit_test(test_mpirun_without_parallel),
+        cmocka_unit_test(test_mpirun_without_parallel), cmocka_unit_test(test_decompose_case),
     };
     return cmocka_run_group_tests_name("parallel", tests, NULL, NULL);
 }

@@ -40,6 +40,7 @@ static const scene scenes[] = {
     {"cases/cbdSmall", "--lo 0 0 0 --hi 1.2 1.2 1.2"},
     {"cases/wave", "--lo 0 0 0 --hi 4 0.5 1"},
     {"cases/glass", "--lo -0.3 -0.3 0 --hi 0.3 0.3 0.5"},
+    {"cases/splishDamBreak", "--lo -2 -0.75 0 --hi 2 0.75 3"},
 };
 
 static void test_every_scene_runs(void **state)
@@ -84,11 +85,64 @@ static void test_paddle_not_penetrated(void **state)
     assert_true(moved > 0.05);
 }
 
+/* The number after `key` in the file `path` (the first match); -1 if none. */
+static double log_number(const char *path, const char *key)
+{
+    char line[1024];
+    double v = -1;
+    FILE *f = fopen(path, "r");
+    if (!f) fail_msg("no %s", path);
+    while (fgets(line, sizeof line, f)) {
+        char *at = strstr(line, key);
+        if (at) {
+            v = strtod(at + strlen(key), NULL);
+            break;
+        }
+    }
+    fclose(f);
+    return v;
+}
+
+/* cases/splishDamBreak places SPlisHSPlasH's DamBreak particles: 19^3 =
+ * 6,859 at spacing 0.05 m, and after ./setLevel 59319 39^3 = 59,319 at
+ * 0.025 m; ./setLevel 6859 goes back.  One step each. */
+static void test_splish_levels(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *level;
+        double n, r0;
+    } levels[] = {{"59319", 59319, 0.025}, {"6859", 6859, 0.05}};
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd,
+             "rm -rf tests/output/splishLevels && mkdir -p tests/output && "
+             "cp -r cases/splishDamBreak tests/output/splishLevels && "
+             "sed -i 's/^endTime .*/endTime 0.0001;/; s/^writeInterval .*/writeInterval 0.0001;/' "
+             "tests/output/splishLevels/system/controlDict");
+    assert_int_equal(system(cmd), 0);
+    for (size_t k = 0; k < sizeof levels / sizeof *levels; k++) {
+        snprintf(cmd, sizeof cmd,
+                 "SLUICE_BIN=%s tests/output/splishLevels/setLevel %s && "
+                 "%s/pcisph -case tests/output/splishLevels -quiet > tests/output/splishLevels/log "
+                 "2>&1",
+                 bin_dir(), levels[k].level, bin_dir());
+        if (system(cmd) != 0) fail_msg("level %s did not run", levels[k].level);
+        double n = log_number("tests/output/splishLevels/log", "fluid particles");
+        double r0 = log_number("tests/output/splishLevels/log", "particle spacing r0");
+        if (n != levels[k].n || r0 != levels[k].r0)
+            fail_msg("level %s: %g fluid particles at r0 %g, expected %g at %g", levels[k].level,
+                     n, r0, levels[k].n, levels[k].r0);
+    }
+    assert_int_equal(system("SLUICE_BIN=bin tests/output/splishLevels/setLevel 1000 "
+                            "> /dev/null 2>&1") == 0, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_scene_runs),
         cmocka_unit_test(test_paddle_not_penetrated),
+        cmocka_unit_test(test_splish_levels),
     };
     return cmocka_run_group_tests_name("scenes", tests, NULL, NULL);
 }

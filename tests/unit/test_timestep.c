@@ -141,10 +141,11 @@ static void test_defaults_match_etc(void **state)
         double file, compiled;
         if (!strcmp(key, "FoamFile")) continue;
         nkeys++;
-        if (!strcmp(key, "mode")) {
+        if (!strcmp(key, "mode") || !strcmp(key, "controller")) {
             const char *w = NULL;
             assert_int_equal(dict_get_word(d, key, &w, &err), 0);
-            assert_string_equal(w, ts_mode_name(p.mode));
+            assert_string_equal(w, !strcmp(key, "mode") ? ts_mode_name(p.mode)
+                                                         : ts_controller_name(p.controller));
             continue;
         }
         if (ts_param_value(&p, key, &compiled)) fail_msg("%s: unknown key '%s'", ETC, key);
@@ -159,9 +160,10 @@ static void test_defaults_match_etc(void **state)
     /* and ts_read of the file gives the defaults */
     ts_read(d, &r);
     assert_int_equal(r.mode, p.mode);
+    assert_int_equal(r.controller, p.controller);
     for (const char *const *k = ts_keys(); *k; k++) {
         double a, b;
-        if (!strcmp(*k, "mode")) continue;
+        if (!strcmp(*k, "mode") || !strcmp(*k, "controller")) continue;
         assert_int_equal(ts_param_value(&r, *k, &a), 0);
         assert_int_equal(ts_param_value(&p, *k, &b), 0);
         assert_true(a == b);
@@ -619,6 +621,8 @@ static void test_read_overrides(void **state)
     size_t len = 0;
     FILE *f = open_memstream(&text, &len);
     ts_params q = defaults(), r;
+    q.controller = TS_COST;
+    q.target_iterations = 6.5;
     q.increase_velocity = 0.37;
     q.delta_t_min = 1e-7;
     ts_write(&q, f);
@@ -627,9 +631,10 @@ static void test_read_overrides(void **state)
     free(text);
     ts_read(d, &r);
     dict_free(d);
+    assert_int_equal(r.controller, q.controller);
     for (const char *const *k = ts_keys(); *k; k++) {
         double a, b;
-        if (!strcmp(*k, "mode")) continue;
+        if (!strcmp(*k, "mode") || !strcmp(*k, "controller")) continue;
         ts_param_value(&q, *k, &a);
         ts_param_value(&r, *k, &b);
         if (a != b) fail_msg("%s: wrote %.17g, read %.17g", *k, a, b);
@@ -669,6 +674,24 @@ static void test_validate_rejects(void **state)
     BAD(increase_max_density, 6.0, "increaseMaxDensity");
     BAD(delta_t, (double)NAN, "deltaT");
     BAD(mode, TS_CONSTANT, "deltaT"); /* constant mode needs deltaT */
+    BAD(target_iterations, 0.5, "targetIterations");
+    BAD(target_iterations, 2000.0, "targetIterations");
+    BAD(cost_increase_factor, 1.0, "costIncreaseFactor");
+    BAD(cost_decrease_factor, 1.0, "costDecreaseFactor");
+#undef BAD
+#define BAD(field, value, key)                                       \
+    do {                                                             \
+        p = defaults();                                              \
+        p.controller = TS_COST;                                      \
+        p.field = value;                                             \
+        if (!rejects(&p, ETA, key))                                  \
+            fail_msg("%s = %g accepted", key, (double)(value));      \
+    } while (0)
+    BAD(cost_max_density, 10.0, "costMaxDensity");     /* = etaMaxFactor: a shock */
+    BAD(cost_max_density, 0.5, "costMaxDensity");
+    p = defaults(); /* checked with controller cost only */
+    p.cost_max_density = 10.0;
+    assert_false(rejects(&p, ETA, "costMaxDensity"));
 #undef BAD
     p = defaults();
     p.delta_t_min = 1e-3;
@@ -688,6 +711,160 @@ static void test_validate_rejects(void **state)
     assert_false(rejects(&p, ETA, "deltaShockFactor"));
     p.delta_shock_factor = 1.01;
     assert_false(rejects(&p, ETA, "deltaShockFactor"));
+}
+
+/* ---- controller cost ------------------------------------------------------------ */
+
+static ts_params cost_params(void)
+{
+    ts_params p = defaults();
+    p.controller = TS_COST;
+    return p;
+}
+
+/* A step that reached eta with k iterations, far from (16) and (19). */
+static ts_obs cost_obs(int k)
+{
+    ts_obs o = calm();
+    o.converged = o.iterating = 1;
+    o.iterations = k;
+    return o;
+}
+
+/* Fewer iterations than the target: dt grows by costIncreaseFactor; more:
+ * it shrinks by costDecreaseFactor; exactly the target: kept. */
+static void test_cost_steers_by_iterations(void **state)
+{
+    (void)state;
+    ts_params p = cost_params();
+    assert_true(p.target_iterations == 8.0 && p.cost_increase_factor == 1.01 &&
+                p.cost_decrease_factor == 0.98 && p.cost_max_density == 8.0);
+    unsigned c;
+    ts_state s = fresh(DT);
+    assert_int_equal(step(&p, &s, cost_obs(3), &c), TS_INCREASE);
+    assert_near(s.dt, 1.01 * DT, 1e-18);
+    assert_true(c & TS_COST_FEWER);
+    s = fresh(DT);
+    assert_int_equal(step(&p, &s, cost_obs(12), &c), TS_DECREASE);
+    assert_near(s.dt, 0.98 * DT, 1e-18);
+    assert_true(c & TS_COST_MORE);
+    s = fresh(DT);
+    assert_int_equal(step(&p, &s, cost_obs(8), &c), TS_KEEP);
+    assert_true(s.dt == DT);
+    /* the paper's 3-iteration rule would decrease here ((22) avg >= eta):
+     * the cost controller only looks at what the iterations reached */
+    ts_obs o = cost_obs(3);
+    o.err_avg = ETA;
+    s = fresh(DT);
+    assert_int_equal(step(&p, &s, o, &c), TS_INCREASE);
+    assert_true(c & TS_C22);
+    /* the same observation, the paper's controller: decrease */
+    ts_params q = defaults();
+    s = fresh(DT);
+    assert_int_equal(step(&q, &s, o, &c), TS_DECREASE);
+    /* steering settles: k(dt) = 16 dt / DT iterations (more for a larger
+     * step) brings dt up to the steps that need the target, 0.4375-0.5 DT */
+    s = fresh(0.1 * DT);
+    for (int i = 0; i < 1000; i++) step(&p, &s, cost_obs((int)ceil(16.0 * s.dt / DT)), &c);
+    assert_true(s.dt > 0.43 * DT && s.dt <= 0.5 * DT);
+}
+
+/* The next step never exceeds (19) increaseVelocity h / vmax, (16)
+ * increaseForce sqrt(h / Fmax) or deltaTMax. */
+static void test_cost_limits(void **state)
+{
+    (void)state;
+    ts_params p = cost_params();
+    unsigned c;
+    ts_obs o = cost_obs(3);
+    o.vmax = speed_for(1.0 / 0.39 * 1.005); /* 0.39 h / vmax = 1.005 dt: below 1.01 dt */
+    ts_state s = fresh(DT);
+    assert_int_equal(step(&p, &s, o, &c), TS_INCREASE);
+    assert_near(s.dt, 1.005 * DT, 1e-15);
+    assert_true(c & TS_COST_LIMIT);
+    o = cost_obs(3);
+    o.fmax = force_for(0.5 / 0.19); /* 0.19 sqrt(h / Fmax) = 0.5 dt: a cut to half */
+    s = fresh(DT);
+    assert_int_equal(step(&p, &s, o, &c), TS_DECREASE);
+    assert_near(s.dt, 0.5 * DT, 1e-15);
+    p.delta_t_max = DT;
+    s = fresh(DT);
+    assert_int_equal(step(&p, &s, cost_obs(3), &c), TS_KEEP);
+    assert_true(s.dt == DT && (c & TS_COST_LIMIT));
+    p.delta_t_max = 0.0;
+    p.delta_t_min = 0.99 * DT; /* costDecreaseFactor 0.98 goes below it */
+    s = fresh(DT);
+    assert_int_equal(step(&p, &s, cost_obs(20), &c), TS_TOO_SMALL);
+}
+
+/* A step whose average stayed above eta is a shock (back two steps, eq. 24);
+ * one whose largest stayed above costMaxDensity eta is kept with a 5-fold
+ * decrease; (25)-(27) are shocks as in the paper. */
+static void test_cost_shocks(void **state)
+{
+    (void)state;
+    ts_params p = cost_params();
+    unsigned c;
+    ts_obs o = cost_obs(50);
+    o.err_avg = 1.2 * ETA;
+    o.converged = 0;
+    ts_state s = fresh(DT);
+    assert_int_equal(step(&p, &s, o, &c), TS_SHOCK);
+    assert_true(c & TS_COST_ABOVE);
+    assert_near(s.dt, 0.5 * DT, 1e-18); /* shockMaxRatio: (24) gives more here */
+    o = cost_obs(50);
+    o.err_max = 8.5 * ETA;
+    o.converged = 0;
+    s = fresh(DT);
+    assert_int_equal(step(&p, &s, o, &c), TS_DECREASE);
+    assert_true(c & TS_COST_SHORT);
+    assert_near(s.dt, pow(0.98, 5) * DT, 1e-15);
+    o = cost_obs(3);
+    o.err_max = 1.0 * ETA;
+    s = fresh(DT);
+    step(&p, &s, o, &c);
+    o.err_max = 7.0 * ETA; /* rose by 6 eta > deltaShockFactor 5.5 eta: (25) */
+    assert_int_equal(step(&p, &s, o, &c), TS_SHOCK);
+    assert_true(c & TS_C25);
+    o = cost_obs(3);
+    o.vmax = speed_for(1.0 / 0.45 * 0.9); /* 0.45 h / vmax < dt: (27) */
+    s = fresh(DT);
+    assert_int_equal(step(&p, &s, o, &c), TS_SHOCK);
+    /* the controller's state is its ts_state: a copy restores it exactly */
+    s = fresh(DT);
+    step(&p, &s, cost_obs(3), &c);
+    ts_state snap = s;
+    step(&p, &s, cost_obs(20), &c);
+    s = snap;
+    ts_state again = snap;
+    assert_int_equal(step(&p, &s, cost_obs(20), &c), step(&p, &again, cost_obs(20), &c));
+    assert_true(s.dt == again.dt);
+    char buf[256];
+    ts_criteria_text(&p, TS_COST_FEWER | TS_C22 | TS_COST_LIMIT, buf, sizeof buf);
+    assert_string_equal(buf, "cost: fewer iterations than targetIterations 8; cost: limited by "
+                             "(16), (19) or deltaTMax");
+}
+
+/* controller: ihmsen2010 (default) or cost; anything else names the key. */
+static void test_cost_read(void **state)
+{
+    (void)state;
+    ts_params p;
+    dict *d = parse("mode adaptive; controller cost; targetIterations 6;");
+    ts_read(d, &p);
+    dict_free(d);
+    assert_int_equal(p.controller, TS_COST);
+    assert_true(ts_is_cost(&p) && p.target_iterations == 6.0);
+    d = parse("mode constant; deltaT 0.001; controller cost;");
+    ts_read(d, &p);
+    dict_free(d);
+    assert_false(ts_is_cost(&p)); /* constant mode: the step is deltaT */
+    d = parse("mode adaptive;");
+    ts_read(d, &p);
+    dict_free(d);
+    assert_int_equal(p.controller, TS_IHMSEN2010);
+    assert_string_equal(ts_controller_name(TS_COST), "cost");
+    assert_string_equal(ts_controller_name(TS_IHMSEN2010), "ihmsen2010");
 }
 
 /* ---- text for the log ---------------------------------------------------------- */
@@ -737,6 +914,10 @@ int main(void)
         cmocka_unit_test(test_run_ending_actions),
         cmocka_unit_test(test_read_overrides),
         cmocka_unit_test(test_validate_rejects),
+        cmocka_unit_test(test_cost_steers_by_iterations),
+        cmocka_unit_test(test_cost_limits),
+        cmocka_unit_test(test_cost_shocks),
+        cmocka_unit_test(test_cost_read),
         cmocka_unit_test(test_text),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -158,8 +158,9 @@ static void print_world(const run *r, const char *dt_rule)
     sl_info("  particle mass       %g kg (rho0 r0^3), rho0 %g kg/m^3", s->mass, c->prm.rho0);
     sl_info("  boundary mass       gamma %.6f (Akinci volume x gamma), static density factor %.6f",
             s->cal.gamma, s->cal.c_static);
-    sl_info("  time step           %s: deltaT %g s (%s), delta %.6g (eq. 4)",
-            ts_mode_name(c->ts.mode), s->dt, dt_rule, s->delta);
+    sl_info("  time step           %s%s: deltaT %g s (%s), delta %.6g (eq. 4)",
+            ts_mode_name(c->ts.mode), ts_is_cost(&c->ts) ? ", controller cost" : "", s->dt,
+            dt_rule, s->delta);
     sl_info("  eta                 %g %% of rho0 (eta_max %g %%), iterations %d..%d",
             100 * c->prm.eta, 100 * ts_eta_max(&c->ts, c->prm.eta), c->prm.min_iter,
             c->prm.max_iter);
@@ -505,7 +506,7 @@ static void advance(run *r)
     r->t = t_after;
     r->step++;
     ts_obs o = {st.err_avg, st.err_max, st.vmax, st.fmax, st.converged,
-                r->c.prm.max_iter > r->c.prm.min_iter};
+                r->c.prm.max_iter > r->c.prm.min_iter, st.iterations};
     unsigned crit = 0;
     ts_action a = ts_update(&r->c.ts, &r->ctl, r->c.prm.eta, r->s.h, &o, &crit);
     const int shock = a == TS_SHOCK || a == TS_SHOCK_STORM;

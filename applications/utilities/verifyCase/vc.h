@@ -44,6 +44,8 @@ typedef struct vc_sample {
     double vrms;      /* rms speed against the exact velocity (m/s) */
     double ke;        /* kinetic energy per unit mass (m^2/s^2) */
     double height;    /* the highest particle + r0/2 (m) */
+    double mode;      /* standingWave: the velocity's projection on the linear mode
+                         (m/s; A w cos(w t) for the exact answer) */
 } vc_sample;
 
 extern const char *const vc_kind_names[];

@@ -150,7 +150,8 @@ static double profile_error(const vc_setup *s, const sl_fluid *f)
 void vc_measure(const vc_setup *s, const sl_fluid *f, double t, vc_sample *out)
 {
     const double H = s->depth, pg = s->rho0 * s->gmag;
-    double sp = 0.0, sv = 0.0, su = 0.0, ke = 0.0, top = -INFINITY;
+    double sp = 0.0, sv = 0.0, su = 0.0, ke = 0.0, top = -INFINITY, pm = 0.0, mm = 0.0;
+    const double kw = 3.14159265358979323846 / (s->hi[0] - s->lo[0]);
     for (size_t i = 0; i < f->n; i++) {
         double v[3];
         exact_velocity(s, f->x[i], f->y[i], f->z[i], t, v);
@@ -162,11 +163,18 @@ void vc_measure(const vc_setup *s, const sl_fluid *f, double t, vc_sample *out)
         const double dp = f->p[i] - pg * (depth > 0.0 ? depth : 0.0);
         sp += dp * dp;
         if (f->z[i] > top) top = f->z[i];
+        if (s->kind == VC_WAVE) { /* the mode's velocity shape (case.c's standingWave) */
+            const double x = f->x[i] - s->lo[0], z = f->z[i] - s->lo[2], sh = sinh(kw * H);
+            const double mu = -cosh(kw * z) / sh * sin(kw * x), mw = sinh(kw * z) / sh * cos(kw * x);
+            pm += f->vx[i] * mu + f->vz[i] * mw;
+            mm += mu * mu + mw * mw;
+        }
     }
     const double n = f->n ? (double)f->n : 1.0;
     out->t = t;
     out->vrms = sqrt(sv / n);
     out->ke = ke / n;
+    out->mode = mm > 0.0 ? pm / mm : (double)NAN;
     out->height = top + 0.5 * s->r0 - s->lo[2];
     out->perr = (s->kind == VC_HYDROSTATIC || s->kind == VC_TRANSLATING || s->kind == VC_WAVE) && H > 0.0 ? sqrt(sp / n) / (pg * H) : (double)NAN;
     switch (s->kind) {

@@ -65,34 +65,35 @@ static double wall_time(const char *dir, long *steps)
     return sum;
 }
 
-/* The standing wave's period from the kinetic-energy minima: the energy is
- * largest at t = 0 and smallest at t = (2j - 1) T / 4; least squares for T
- * over the minima found (below 0.3 of the largest energy, one per quarter
- * period of the linear answer Te).  NAN when there is none. */
-static double wave_period(const vc_sample *s, size_t n, double Te, int *nmin)
+/* The standing wave's period from the zero crossings of the velocity's
+ * projection on the linear mode (A w cos(w t) for the exact answer):
+ * successive crossings are half a period apart, T / 2 is the slope of the
+ * least-squares line through the crossing times against their number
+ * (a phase shift of the start does not enter; with one crossing, at T / 4,
+ * T = 4 t).  Crossings found by linear interpolation between written
+ * times; one closer than a quarter period Te / 4 to the previous one is
+ * noise and left out.  NAN when there is none. */
+static double wave_period(const vc_sample *s, size_t n, double Te, int *ncross)
 {
-    double kmax = 0.0, num = 0.0, den = 0.0, last = -INFINITY;
+    double sj = 0.0, st = 0.0, sjj = 0.0, sjt = 0.0, last = -INFINITY, first = 0.0;
     int j = 0;
-    for (size_t i = 0; i < n; i++) kmax = fmax(kmax, s[i].ke);
-    for (size_t i = 1; i + 1 < n; i++) {
-        if (!(s[i].ke < s[i - 1].ke && s[i].ke <= s[i + 1].ke && s[i].ke < 0.3 * kmax)) continue;
-        if (s[i].t - last < 0.25 * Te) continue;
-        /* the parabola through the three points */
-        double t0 = s[i - 1].t, t1 = s[i].t, t2 = s[i + 1].t;
-        double k0 = s[i - 1].ke, k1 = s[i].ke, k2 = s[i + 1].ke;
-        double d = (t0 - t1) * (t0 - t2) * (t1 - t2);
-        double A = (t2 * (k1 - k0) + t1 * (k0 - k2) + t0 * (k2 - k1)) / d;
-        double B = (t2 * t2 * (k0 - k1) + t1 * t1 * (k2 - k0) + t0 * t0 * (k1 - k2)) / d;
-        double tm = A > 0.0 ? -B / (2.0 * A) : t1;
-        if (!(tm >= t0 && tm <= t2)) tm = t1;
+    for (size_t i = 1; i < n; i++) {
+        const double m0 = s[i - 1].mode, m1 = s[i].mode;
+        if (!(m0 * m1 < 0.0 || (m1 == 0.0 && m0 != 0.0))) continue;
+        const double tc = s[i - 1].t + (s[i].t - s[i - 1].t) * m0 / (m0 - m1);
+        if (tc - last < 0.25 * Te) continue;
+        if (j == 0) first = tc;
+        sj += j;
+        st += tc;
+        sjj += (double)j * j;
+        sjt += j * tc;
         j++;
-        double a = (2.0 * j - 1.0) / 4.0;
-        num += a * tm;
-        den += a * a;
-        last = tm;
+        last = tc;
     }
-    *nmin = j;
-    return j ? num / den : (double)NAN;
+    *ncross = j;
+    if (j == 0) return (double)NAN;
+    if (j == 1) return 4.0 * first;
+    return 2.0 * (j * sjt - sj * st) / (j * sjj - sj * sj);
 }
 
 /* <case>/postProcessing/verifyCase/summary.dat: one row, for sweepCase's
@@ -139,7 +140,7 @@ int main(int argc, char **argv)
     double worst = 0.0, mean = 0.0;
     size_t counted = 0;
     if (!quiet)
-        printf("# %s: %s\n# time\terror\tpressureError\tvelocityRms\tkineticEnergy\theight\n",
+        printf("# %s: %s\n# time\terror\tpressureError\tvelocityRms\tkineticEnergy\theight\tmode\n",
                c.dir, vc_kind_names[s.kind]);
     for (size_t i = 0; i < times.n; i++) {
         fo_snapshot sn;
@@ -149,8 +150,8 @@ int main(int argc, char **argv)
         vc_measure(&s, &sn.f, times.time[i], &smp[i]);
         fo_snapshot_free(&sn);
         if (!quiet)
-            printf("%s\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\n", times.name[i], smp[i].err, smp[i].perr,
-                   smp[i].vrms, smp[i].ke, smp[i].height);
+            printf("%s\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\n", times.name[i], smp[i].err,
+                   smp[i].perr, smp[i].vrms, smp[i].ke, smp[i].height, smp[i].mode);
         if (times.time[i] >= s.from - 1e-9 && isfinite(smp[i].err)) {
             worst = fmax(worst, smp[i].err);
             mean += smp[i].err;
@@ -164,15 +165,15 @@ int main(int argc, char **argv)
         what = "mean over the times";
     } else if (s.kind == VC_WAVE) {
         const double Te = vc_wave_period(s.gmag, s.hi[0] - s.lo[0], s.depth);
-        int nmin;
-        double T = wave_period(smp, times.n, Te, &nmin);
+        int ncross;
+        double T = wave_period(smp, times.n, Te, &ncross);
         if (!isfinite(T))
             sl_fatal("%s: no minimum of the kinetic energy in the written times: write more "
                      "often than a quarter period (%.4g s) and run at least half a period",
                      c.dir, 0.25 * Te);
         error = fabs(T - Te) / Te;
-        printf("# period %.6g s from %d minima, linear theory %.6g s (L %g m, H %.6g m)\n", T,
-               nmin, Te, s.hi[0] - s.lo[0], s.depth);
+        printf("# period %.6g s from %d zero crossings, linear theory %.6g s (L %g m, H %.6g m)\n", T,
+               ncross, Te, s.hi[0] - s.lo[0], s.depth);
         what = "relative error of the period";
         counted = 1;
     }

@@ -1,0 +1,286 @@
+/*
+ * decomposeCase: how a case's initial fluid would be shared out over N
+ * ranks, and what each rank would have to exchange (issue 17,
+ * doc/parallel.md).  Not a step a run needs: `mpirun -np N pcisph
+ * -parallel` decomposes by itself.
+ *
+ *   decomposeCase [-case <dir>] -np <N>
+ *
+ * Three partitions of the fluid at the start time, by particle count:
+ *   rows   contiguous ranges of the cell-sorted rows: what pcisph
+ *          -parallel computes per rank today (phase 1, replicated state);
+ *   slabs  slabs along the longest axis of the fluid's bounding box;
+ *   rcb    recursive coordinate bisection (each cut across the longest
+ *          axis of its part, at the count that gives each side its share
+ *          of ranks).
+ * For each: particles per rank (min, max, max/mean), and the halo a rank
+ * would need under a domain decomposition: the particles of other ranks
+ * within h of its own (fluid; the boundary particles within h of its
+ * fluid), the ranks they belong to, and the bytes an iteration would
+ * exchange (x* and p/rho^2: 4 doubles per halo particle) against the
+ * replicated phase's gathers (7 doubles per row of every other rank).
+ * Writes <case>/postProcessing/decomposeCase/fluid.vtu (point data
+ * rowsRank, slabsRank, rcbRank) for ParaView.
+ */
+#include "app/app.h"
+#include "case/case.h"
+#include "core/sl_log.h"
+#include "core/sl_mem.h"
+#include "io/time_dir.h"
+#include "io/vtk_writer.h"
+#include "solver/pcisph.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const app_option options[] = {APP_CASE,
+                                     {.name = "np",
+                                      .kind = APP_INT,
+                                      .arg = "<N>",
+                                      .help = "the number of ranks",
+                                      .def = "2",
+                                      .min = 1,
+                                      .max = 65536},
+                                     APP_END};
+
+static const app_info info = {
+    .name = "decomposeCase",
+    .what = "Prints how the case's fluid at the start would be shared out over N ranks\n"
+            "(the rows pcisph -parallel computes per rank, slabs along the longest axis,\n"
+            "recursive coordinate bisection), with particles per rank and the halo each\n"
+            "rank would exchange; writes postProcessing/decomposeCase/fluid.vtu (the rank\n"
+            "of each particle for each partition) for ParaView.  mpirun -np N pcisph\n"
+            "-parallel needs no decomposition step.",
+    .options = options};
+
+/* ---- partitions ---- */
+
+static const double *key_; /* the coordinate qsort compares */
+
+static int by_key(const void *a, const void *b)
+{
+    const uint32_t i = *(const uint32_t *)a, j = *(const uint32_t *)b;
+    if (key_[i] != key_[j]) return key_[i] < key_[j] ? -1 : 1;
+    return i < j ? -1 : (i > j); /* ties by index: the same cut every run */
+}
+
+/* The axis of the largest extent of particles idx[0..n). */
+static int longest_axis(const sl_fluid *f, const uint32_t *idx, size_t n)
+{
+    const double *c[3] = {f->x, f->y, f->z};
+    double best = -1;
+    int axis = 0;
+    for (int d = 0; d < 3; d++) {
+        double lo = INFINITY, hi = -INFINITY;
+        for (size_t k = 0; k < n; k++) {
+            lo = fmin(lo, c[d][idx[k]]);
+            hi = fmax(hi, c[d][idx[k]]);
+        }
+        if (n && hi - lo > best) {
+            best = hi - lo;
+            axis = d;
+        }
+    }
+    return axis;
+}
+
+static void sort_along(const sl_fluid *f, uint32_t *idx, size_t n, int axis)
+{
+    const double *c[3] = {f->x, f->y, f->z};
+    key_ = c[axis];
+    qsort(idx, n, sizeof *idx, by_key);
+}
+
+/* Ranks [r0, r0 + p) for particles idx[0..n): cut across the longest
+ * axis at the count of the first half's share of ranks. */
+static void rcb(const sl_fluid *f, uint32_t *idx, size_t n, int r0, int p, int *rank)
+{
+    if (p == 1) {
+        for (size_t k = 0; k < n; k++) rank[idx[k]] = r0;
+        return;
+    }
+    const int pl = p / 2;
+    sort_along(f, idx, n, longest_axis(f, idx, n));
+    const size_t nl = (size_t)((double)n * pl / p + 0.5);
+    rcb(f, idx, nl, r0, pl, rank);
+    rcb(f, idx + nl, n - nl, r0 + pl, p - pl, rank);
+}
+
+static void slabs(const sl_fluid *f, uint32_t *idx, size_t n, int p, int *rank)
+{
+    sort_along(f, idx, n, longest_axis(f, idx, n));
+    for (int r = 0; r < p; r++)
+        for (size_t k = n * (size_t)r / (size_t)p; k < n * (size_t)(r + 1) / (size_t)p; k++)
+            rank[idx[k]] = r;
+}
+
+static void rows(size_t n, int p, int *rank)
+{
+    for (int r = 0; r < p; r++)
+        for (size_t i = n * (size_t)r / (size_t)p; i < n * (size_t)(r + 1) / (size_t)p; i++)
+            rank[i] = r;
+}
+
+/* ---- what a partition costs ---- */
+
+typedef struct part_stats {
+    size_t own_min, own_max;
+    double own_mean;
+    size_t halo_min, halo_max, bhalo_max;
+    double halo_mean;
+    int nbr_max; /* ranks a rank would exchange with */
+    double nbr_mean;
+} part_stats;
+
+/* The original of list entry j (periodic images map to theirs). */
+static inline uint32_t original(const pcs_solver *s, uint32_t j)
+{
+    return j < s->f->n ? j : s->halo.src[j - s->f->n];
+}
+
+static part_stats measure(const pcs_solver *s, const int *rank, int p)
+{
+    const size_t n = s->f->n, nb = s->b->n;
+    part_stats st = {.own_min = n, .halo_min = (size_t)-1};
+    size_t *own = calloc((size_t)p, sizeof *own), *first = calloc((size_t)p + 1, sizeof *first);
+    uint32_t *order = malloc((n + 1) * sizeof *order);
+    int *stamp = malloc((n + 1) * sizeof *stamp), *bstamp = malloc((nb + 1) * sizeof *bstamp);
+    int *rstamp = malloc(((size_t)p + 1) * sizeof *rstamp);
+    if (!own || !first || !order || !stamp || !bstamp || !rstamp) sl_fatal("out of memory");
+    for (size_t i = 0; i < n; i++) own[rank[i]]++;
+    for (int r = 0; r < p; r++) first[r + 1] = first[r] + own[r];
+    for (size_t i = 0; i < n; i++) order[first[rank[i] + 1] - own[rank[i]]--] = (uint32_t)i;
+    for (int r = 0; r < p; r++) own[r] = first[r + 1] - first[r];
+    for (size_t i = 0; i < n; i++) stamp[i] = -1;
+    for (size_t i = 0; i < nb; i++) bstamp[i] = -1;
+    for (int r = 0; r < p; r++) rstamp[r] = -1;
+    double halo_sum = 0, nbr_sum = 0;
+    for (int r = 0; r < p; r++) {
+        size_t halo = 0, bhalo = 0;
+        int nbrs = 0;
+        for (size_t k = first[r]; k < first[r + 1]; k++) {
+            const uint32_t i = order[k];
+            for (uint32_t q = s->ff.start[i]; q < s->ff.start[i + 1]; q++) {
+                const uint32_t j = original(s, s->ff.idx[q]);
+                if (rank[j] == r || stamp[j] == r) continue;
+                stamp[j] = r;
+                halo++;
+                if (rstamp[rank[j]] != r) {
+                    rstamp[rank[j]] = r;
+                    nbrs++;
+                }
+            }
+            for (uint32_t q = s->fb.start[i]; q < s->fb.start[i + 1]; q++) {
+                const uint32_t j = s->fb.idx[q];
+                if (bstamp[j] != r) {
+                    bstamp[j] = r;
+                    bhalo++;
+                }
+            }
+        }
+        st.own_min = own[r] < st.own_min ? own[r] : st.own_min;
+        st.own_max = own[r] > st.own_max ? own[r] : st.own_max;
+        st.halo_min = halo < st.halo_min ? halo : st.halo_min;
+        st.halo_max = halo > st.halo_max ? halo : st.halo_max;
+        st.bhalo_max = bhalo > st.bhalo_max ? bhalo : st.bhalo_max;
+        st.nbr_max = nbrs > st.nbr_max ? nbrs : st.nbr_max;
+        halo_sum += (double)halo;
+        nbr_sum += nbrs;
+    }
+    st.own_mean = (double)n / p;
+    st.halo_mean = halo_sum / p;
+    st.nbr_mean = nbr_sum / p;
+    free(own);
+    free(first);
+    free(order);
+    free(stamp);
+    free(bstamp);
+    free(rstamp);
+    return st;
+}
+
+static void report(const char *name, const part_stats *st, size_t n, int p)
+{
+    /* per PCISPH iteration and rank: a halo exchange sends x* (3 doubles)
+     * after the prediction and p/rho^2 (1) after the density pass; the
+     * replicated phase receives rho, p, p/rho^2, error and the 3 force
+     * components of every row it does not compute */
+    const double halo_bytes = 4.0 * 8.0 * (double)st->halo_max;
+    const double gather_bytes = 7.0 * 8.0 * (double)(n - st->own_min);
+    printf("%-6s %9zu %9zu %6.3f  %9zu %9zu %10.0f %6.1f%%  %9zu  %4d %6.1f  %10.3g %10.3g\n", name,
+           st->own_min, st->own_max, st->own_mean > 0 ? (double)st->own_max / st->own_mean : 0.0,
+           st->halo_min, st->halo_max, st->halo_mean,
+           st->own_mean > 0 ? 100 * st->halo_mean / st->own_mean : 0.0, st->bhalo_max, st->nbr_max,
+           st->nbr_mean, halo_bytes, p > 1 ? gather_bytes : 0.0);
+}
+
+static void write_vtu(const sl_case *c, const pcs_solver *s, const int *r_rows, const int *r_slabs,
+                      const int *r_rcb)
+{
+    sl_err err;
+    char dir[4096], path[4200];
+    snprintf(dir, sizeof dir, "%s/postProcessing/decomposeCase", c->dir);
+    if (tdir_mkdirs(dir, &err)) sl_fatal("%s", err.msg);
+    snprintf(path, sizeof path, "%s/fluid.vtu", dir);
+    vtk_options opt;
+    vtk_options_default(&opt);
+    const vtk_field fields[] = {{"rowsRank", 1, VTK_INT32, {r_rows, NULL, NULL}},
+                                {"slabsRank", 1, VTK_INT32, {r_slabs, NULL, NULL}},
+                                {"rcbRank", 1, VTK_INT32, {r_rcb, NULL, NULL}}};
+    const sl_fluid *f = s->f;
+    if (vtk_write_points(path, f->n, f->x, f->y, f->z, fields, 3, &opt, &err))
+        sl_fatal("%s", err.msg);
+    printf("\nWrote %s (point data rowsRank, slabsRank, rcbRank): open it in ParaView\n", path);
+}
+
+int main(int argc, char **argv)
+{
+    app a;
+    app_parse(&a, &info, argc, argv);
+    const char *dir = app_case(&a);
+    const int p = (int)app_int(&a, "np", 2);
+    sl_case c;
+    pcs_solver s;
+    sl_log_set_quiet(1);
+    case_read(&c, dir);
+    case_build(&c);
+    sl_log_set_quiet(0);
+    pcs_init(&s, &c.prm, &c.fluid, &c.boundary, c.lo, c.hi, 1e-4, &c.effects);
+    pcs_find_neighbours(&s); /* sorted by cell, lists within h */
+    const size_t n = s.f->n;
+    int *r_rows = sl_malloc((n + 1) * sizeof(int), "ranks");
+    int *r_slabs = sl_malloc((n + 1) * sizeof(int), "ranks");
+    int *r_rcb = sl_malloc((n + 1) * sizeof(int), "ranks");
+    uint32_t *idx = sl_malloc((n + 1) * sizeof *idx, "particles");
+    rows(n, p, r_rows);
+    for (size_t i = 0; i < n; i++) idx[i] = (uint32_t)i;
+    slabs(s.f, idx, n, p, r_slabs);
+    for (size_t i = 0; i < n; i++) idx[i] = (uint32_t)i;
+    rcb(s.f, idx, n, 0, p, r_rcb);
+    printf("Case %s: %zu fluid and %zu boundary particles, h = %g m, %d ranks\n\n", c.dir, n,
+           s.b->n, s.h, p);
+    printf("        ---- particles per rank ----  ------- fluid halo per rank -------  boundary  "
+           "-- ranks --  ---- bytes / iteration / rank ----\n"
+           "        %9s %9s %6s  %9s %9s %10s %7s  %9s  %4s %6s  %10s %10s\n",
+           "min", "max", "max/av", "min", "max", "mean", "/owned", "max", "max", "mean", "halo",
+           "replicated");
+    report("rows", (part_stats[]){measure(&s, r_rows, p)}, n, p);
+    report("slabs", (part_stats[]){measure(&s, r_slabs, p)}, n, p);
+    report("rcb", (part_stats[]){measure(&s, r_rcb, p)}, n, p);
+    printf("\nrows: what pcisph -parallel computes per rank now (every rank holds every particle "
+           "and\nreceives the rows of the others each iteration: 'replicated'); slabs and rcb: "
+           "a domain\ndecomposition would exchange only the halo (x* and p/rho^2 of the fluid "
+           "within h: 'halo').\n");
+    write_vtu(&c, &s, r_rows, r_slabs, r_rcb);
+    free(r_rows);
+    free(r_slabs);
+    free(r_rcb);
+    free(idx);
+    pcs_free(&s);
+    case_free(&c);
+    app_free(&a);
+    return 0;
+}

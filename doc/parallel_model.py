@@ -1,0 +1,87 @@
+#!/usr/bin/env python3
+"""The scaling model of doc/parallel.md: predicted time per step and
+efficiency of pcisph -parallel on P ranks (one core each), for the
+replicated phase that exists (phase 1) and for the halo decomposition
+that does not yet (phase 2).  Inputs measured on this machine are named
+below; the interconnect figures are published ones (100 Gb/s InfiniBand,
+1-2 us).  Run: python3 doc/parallel_model.py
+"""
+import math
+
+# ---- measured here (doc/parallel.md, "Measured inputs") ----
+C = 0.78e-6          # s per particle-step on one core (1.28 M particle-steps per CPU s, damBreak)
+F_SPLIT = 0.75       # share of a serial step in the passes phase 1 splits (density + pressure)
+ITER = 3.0           # PCISPH iterations per step (minIterations 3; damBreak mean 3.00)
+ARRAYS = 7           # fluid arrays gathered per iteration: rho, p, p/rho^2, err; F^p x, y, z
+ACTIVE = 0.21        # active boundary particles per fluid particle (3 doubles each gathered)
+KAPPA = (3.8, 12.0)  # fluid halo per rank = kappa (N/P)^(2/3): RCB of damBreak (walls,
+                     # free surface) .. a cube inside the fluid, 12 n^(2/3) (decomposeCase)
+SEARCH = 0.10        # share of a step in the search (sort and lists), which the halo adds to
+# ---- published: 100 Gb/s InfiniBand ----
+ALPHA = 1.5e-6       # s latency per message
+BW = 12.5e9          # bytes/s
+
+def allgatherv(nbytes_total, p):
+    """Ring allgather: P-1 steps, each rank receives (P-1)/P of the data."""
+    return (p - 1) * ALPHA + (p - 1) / p * nbytes_total / BW
+
+def allreduce(p):
+    return 2 * math.log2(p) * ALPHA if p > 1 else 0.0
+
+def phase1(n, p, f_split=F_SPLIT):
+    """Replicated state: every rank does the unsplit share of the step on
+    all n particles, its 1/P of the split share, and receives every other
+    rank's rows of ARRAYS arrays (and the active boundary's 3) per
+    iteration, plus one max-reduction."""
+    compute = n * C * ((1 - f_split) + f_split / p)
+    comm = ITER * (ARRAYS * allgatherv(8 * n, p) + allgatherv(24 * ACTIVE * n, p) + allreduce(p))
+    return compute, comm
+
+def phase2(n, p, kappa):
+    """Halo decomposition (RCB by count): each rank computes n/P particles
+    plus the search over its halo; per iteration two halo exchanges (x*
+    after the prediction: 24 B, p/rho^2 after the density pass: 8 B per
+    halo particle) with its neighbour ranks, and one max-reduction; per
+    step the step-size reductions and migration (about the halo once)."""
+    nl = n / p
+    halo = kappa * nl ** (2.0 / 3.0) if p > 1 else 0.0
+    nbrs = min(p - 1, 26)
+    compute = nl * C * (1 + SEARCH * halo / nl)
+    per_iter = nbrs * ALPHA * 2 + (24 + 8) * halo / BW + allreduce(p)
+    per_step = 4 * allreduce(p) + nbrs * ALPHA + 80 * halo / BW
+    return compute, ITER * per_iter + per_step
+
+def table(title, n_of_p, ps, ref_p):
+    print(f"\n{title}")
+    print(f"{'ranks':>6} {'N':>10} | {'phase 1: s/step':>15} {'comm %':>7} {'eff':>6} |"
+          f" {'phase 2: s/step':>15} {'comm %':>7} {'eff':>6} (kappa {KAPPA[0]}..{KAPPA[1]})")
+    base1 = base2 = None
+    for p in ps:
+        n = n_of_p(p)
+        c1, m1 = phase1(n, p)
+        t1 = c1 + m1
+        t2 = [sum(phase2(n, p, k)) for k in KAPPA]
+        m2 = [phase2(n, p, k)[1] for k in KAPPA]
+        if base1 is None:
+            # efficiency against ideal scaling from the serial code on ref_p ranks' work
+            base1 = n * C / p
+            base2 = n * C / p
+        ideal = n_of_p(p) * C / p
+        e1 = ideal / t1
+        e2 = [ideal / t for t in t2]
+        print(f"{p:>6} {n:>10.3g} | {t1:>15.4g} {100 * m1 / t1:>6.1f}% {100 * e1:>5.1f}% |"
+              f" {t2[0]:>7.4g}-{t2[1]:<7.4g} {100 * m2[1] / t2[1]:>6.1f}% "
+              f"{100 * e2[1]:>3.0f}-{100 * e2[0]:<3.0f}%")
+
+if __name__ == "__main__":
+    print("Efficiency = (serial time per step / P) / predicted time per step")
+    table("Strong scaling, CBD large (1.7 M fluid particles)", lambda p: 1.7e6,
+          [1, 8, 16, 32, 64], 1)
+    table("Weak scaling, 97.7 k particles per rank (100 M on 1024 ranks)",
+          lambda p: 97.7e3 * p, [64, 128, 256, 512, 1024], 64)
+    c, m = phase1(1.7e6, 64, f_split=0.97)
+    print(f"\nPhase 1 with every phase split (f_split 0.97), CBD large on 64 ranks: "
+          f"{c + m:.4g} s/step, efficiency {100 * 1.7e6 * C / 64 / (c + m):.0f} % "
+          f"(the Allgatherv alone: {m:.3g} s)")
+    print(f"Phase 1 memory: every rank holds all N particles (~450 B each, README): "
+          f"100 M particles = {100e6 * 450 / 1e9:.0f} GB per rank")
