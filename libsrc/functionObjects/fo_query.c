@@ -128,13 +128,13 @@ static void cell_range(const nbr_grid *g, double v, int d, int reach, int *c0, i
     *c1 = (int)b;
 }
 
-/* The one particle loop: fluid (and boundary) particles within h of x. */
-static void gather(const fo_index *ix, double x, double y, double z, int boundary, acc *a)
+/* The one particle loop: fluid (and boundary) particles within h of x,
+ * added to a. */
+static void gather_at(const fo_index *ix, double x, double y, double z, int boundary, acc *a)
 {
     const pcs_view *s = ix->s;
     const nbr_grid *g = s->grid;
     const size_t nb = boundary && s->b ? s->b->n : 0;
-    *a = (acc){0};
     if (!ix->use_grid) {
         for (size_t j = 0; j < s->f->n; j++) add_fluid(a, s, j, x, y, z);
         for (size_t j = 0; j < nb; j++) add_boundary(a, s, j, x, y, z);
@@ -156,6 +156,39 @@ static void gather(const fo_index *ix, double x, double y, double z, int boundar
                 for (uint32_t j = nb ? g->bstart[r] : 0; j < (nb ? g->bstart[r + 1] : 0); j++)
                     add_boundary(a, s, j, x, y, z);
             }
+}
+
+/* Periodic axes: the particles within h of x across a periodic face are
+ * those within h of x shifted by the period, so the point is queried
+ * again at each shift that brings it within h of the period's other side
+ * (for two or three axes, each combination).  A running solver's boundary
+ * already holds the boundary images: the shifted queries then add fluid
+ * only; a snapshot's boundary is the real particles, shifted alike. */
+static void gather(const fo_index *ix, double x, double y, double z, int boundary, acc *a)
+{
+    const pcs_view *s = ix->s;
+    const dom_periodic *per = s->periodic;
+    *a = (acc){0};
+    gather_at(ix, x, y, z, boundary, a);
+    if (!per || !per->axes) return;
+    const double p[3] = {x, y, z};
+    double shift[3][2];
+    int ns[3];
+    for (int d = 0; d < 3; d++) {
+        ns[d] = 1;
+        shift[d][0] = 0.0;
+        if (!(per->axes & (1u << d))) continue;
+        const double len = per->hi[d] - per->lo[d];
+        if (p[d] - per->lo[d] < s->h) shift[d][ns[d]++] = len;
+        else if (per->hi[d] - p[d] < s->h) shift[d][ns[d]++] = -len;
+    }
+    const int shifted_boundary = boundary && !s->boundary_images;
+    for (int i = 0; i < ns[0]; i++)
+        for (int j = 0; j < ns[1]; j++)
+            for (int k = 0; k < ns[2]; k++)
+                if (i || j || k)
+                    gather_at(ix, x + shift[0][i], y + shift[1][j], z + shift[2][k],
+                              shifted_boundary, a);
 }
 
 void fo_query_sample(const fo_index *ix, double x, double y, double z, fo_sample *out)

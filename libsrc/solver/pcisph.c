@@ -747,7 +747,9 @@ pcs_view pcs_view_of(const pcs_solver *s)
 {
     return (pcs_view){.f = s->f, .b = s->b, .grid = &s->grid, .bf = &s->bf, .k = s->k,
                       .h = s->h, .r0 = s->prm.r0, .mass = s->mass, .rho0 = s->prm.rho0,
-                      .gravity = s->prm.gravity};
+                      .gravity = s->prm.gravity,
+                      .periodic = s->prm.periodic.axes ? &s->prm.periodic : NULL,
+                      .boundary_images = s->halo.nb_img > 0};
 }
 
 void pcs_compute_density(pcs_solver *s)

@@ -141,6 +141,11 @@ typedef struct pcs_view {
     krn_kernel k;
     double h, r0, mass, rho0;
     const double *gravity;
+    /* periodic axes (NULL or axes 0: none); boundary_images: b holds the
+     * boundary images (a running solver) rather than only the real
+     * particles (a snapshot read back from boundary.vtu) */
+    const dom_periodic *periodic;
+    int boundary_images;
 } pcs_view;
 
 /* The view of s's state. */

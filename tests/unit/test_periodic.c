@@ -124,6 +124,35 @@ static void test_threads_give_identical_files(void **state)
                             "tests/output/periodicChannel2/0.3/fluid.vtu"), 0);
 }
 
+/* Function objects see across a periodic face: a probe within h of the
+ * face x = 0 reads the fluid at the other end (the block starts against
+ * x = 0.4 and no fluid is near x = 0), and postProcess on the written
+ * times (which hold no images) reads what the running solver read. */
+static void test_probes_across_the_face(void **state)
+{
+    (void)state;
+    char edit[1024], cmd[2048];
+    snprintf(edit, sizeof edit,
+             "%s && printf 'functions\\n{\\n probes { type probes; fields (density pressure); "
+             "probeLocations ((0.005 0.06 0.03) (0.395 0.06 0.03) (0.2 0.06 0.03)); }\\n}\\n' "
+             ">> system/controlDict",
+             threads1);
+    assert_int_equal(run_edited("tests/cases/periodicChannel", "periodicProbes", edit), 0);
+    snprintf(cmd, sizeof cmd,
+             "cd tests/output/periodicProbes && mv postProcessing/probes/0/probes.dat live.dat && "
+             "%s/postProcess -case . > log.postProcess 2>&1 && "
+             "grep -v '^#' live.dat | awk '$1 == 0 || $1 == 0.1 || $1 == 0.2 || $1 == 0.3' > "
+             "live.rows && grep -v '^#' postProcessing/probes/0/probes.dat > post.rows && "
+             "paste live.rows post.rows | awk '{ n = NF / 2; if (n != 7) bad = 1; "
+             "for (k = 1; k <= n; k++) { a = $k; b = $(k + n); "
+             "if (a == \"nan\" || b == \"nan\") { if (a != b) bad = 1; continue } "
+             "d = a - b; if (d < 0) d = -d; if (d > 1e-9 * (1 + (a < 0 ? -a : a))) bad = 1 } "
+             "rows++ } END { exit bad || rows != 4 }' && "
+             "awk '$1 == 0 { exit !($2 > 500 && $2 < 1500) }' live.rows",
+             bin_dir());
+    assert_int_equal(system(cmd), 0);
+}
+
 /* The case with edit applied must be refused with a message naming
  * boundaryProperties (and a line), the keyword and `why`. */
 static void refused(const char *edit, const char *why)
@@ -167,6 +196,7 @@ int main(void)
         cmocka_unit_test(test_box_keeps_mass_and_momentum),
         cmocka_unit_test(test_channel_is_translation_invariant),
         cmocka_unit_test(test_threads_give_identical_files),
+        cmocka_unit_test(test_probes_across_the_face),
         cmocka_unit_test(test_reader_refuses),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
