@@ -564,6 +564,11 @@ static void compute_forces(pcs_solver *s)
         for (size_t q = 0; q < s->nactive; q++) pb[act[q]] = 0.0;
     }
     eff_view v = effect_view(s, s->t, s->dt, f->x, f->y, f->z);
+    if (s->split.halo) { /* a rank predicts and integrates its own rows only */
+        v.rows_only = 1;
+        v.row0 = s->split.row[s->split.rank];
+        v.row1 = s->split.row[s->split.rank + 1];
+    }
     eff_run(s->eff, EFF_FORCES, &v);
 }
 
