@@ -115,7 +115,52 @@ static void scatter_one(srf_grid *g, const krn_kernel *k, double vol, double px,
     }
 }
 
-void srf_colour_field(const srf_particles *in, double h, srf_grid *g)
+/* Raise the planes [k0, k1) of g to the ball of particle (px, py, pz):
+ * f = max(f, iso (2 - d / rb)), which is above iso within rb. */
+static void ball_one(srf_grid *g, double rb, double iso, double px, double py, double pz, int k0,
+                     int k1)
+{
+    int i0, i1, j0, j1, z0, z1;
+    const double reach = 2 * rb, dx = g->dx;
+    grid_range(g, 0, px, reach, &i0, &i1);
+    grid_range(g, 1, py, reach, &j0, &j1);
+    grid_range(g, 2, pz, reach, &z0, &z1);
+    if (z0 < k0) z0 = k0;
+    if (z1 > k1 - 1) z1 = k1 - 1;
+    for (int kk = z0; kk <= z1; kk++)
+        for (int j = j0; j <= j1; j++) {
+            const double dy = g->lo[1] + j * dx - py, dz = g->lo[2] + kk * dx - pz;
+            float *row = g->f + ((size_t)kk * (size_t)g->nc[1] + (size_t)j) * (size_t)g->nc[0];
+            for (int i = i0; i <= i1; i++) {
+                const double ddx = g->lo[0] + i * dx - px;
+                const float b = (float)(iso * (2 - sqrt(ddx * ddx + dy * dy + dz * dz) / rb));
+                if (b > row[i]) row[i] = b;
+            }
+        }
+}
+
+/* The trilinear interpolation of g at (x, y, z) (inside the grid). */
+static double grid_at(const srf_grid *g, double x, double y, double z)
+{
+    const double q[3] = {(x - g->lo[0]) / g->dx, (y - g->lo[1]) / g->dx, (z - g->lo[2]) / g->dx};
+    int c[3];
+    double t[3];
+    for (int d = 0; d < 3; d++) {
+        c[d] = clampi((long)floor(q[d]), 0, g->nc[d] - 2);
+        t[d] = q[d] - c[d];
+    }
+    double v = 0;
+    for (int k = 0; k < 8; k++) {
+        const int di = k & 1, dj = k >> 1 & 1, dk = k >> 2 & 1;
+        const double w = (di ? t[0] : 1 - t[0]) * (dj ? t[1] : 1 - t[1]) * (dk ? t[2] : 1 - t[2]);
+        v += w * (double)g->f[((size_t)(c[2] + dk) * (size_t)g->nc[1] + (size_t)(c[1] + dj)) *
+                          (size_t)g->nc[0] +
+                      (size_t)(c[0] + di)];
+    }
+    return v;
+}
+
+void srf_colour_field(const srf_particles *in, double h, double ball, double iso, srf_grid *g)
 {
     srf_cells c;
     krn_kernel k;
@@ -133,9 +178,25 @@ void srf_colour_field(const srf_particles *in, double h, srf_grid *g)
         const double zlo = g->lo[2] + k0 * g->dx - h, zhi = g->lo[2] + (k1 - 1) * g->dx + h;
         const int c0 = clampi((long)floor((zlo - c.lo[2]) / h), 0, c.nc[2] - 1);
         const int c1 = clampi((long)floor((zhi - c.lo[2]) / h), 0, c.nc[2] - 1);
-        for (size_t s = c.start[(size_t)c0 * per_layer]; s < c.start[(size_t)(c1 + 1) * per_layer];
-             s++)
-            scatter_one(g, &k, vol, c.x[s], c.y[s], c.z[s], k0, k1);
+        const size_t s0 = c.start[(size_t)c0 * per_layer], s1 = c.start[(size_t)(c1 + 1) * per_layer];
+        for (size_t s = s0; s < s1; s++) scatter_one(g, &k, vol, c.x[s], c.y[s], c.z[s], k0, k1);
+    }
+    if (ball > 0) { /* the particles the field leaves out, and their balls */
+        unsigned char *lone = sl_malloc(in->n ? in->n : 1, "surface lone particles");
+#pragma omp parallel for schedule(static)
+        for (size_t s = 0; s < in->n; s++) lone[s] = grid_at(g, c.x[s], c.y[s], c.z[s]) <= iso;
+#pragma omp parallel for schedule(dynamic, 1)
+        for (long b = 0; b < nblocks; b++) {
+            const int k0 = (int)(b * SRF_PLANES);
+            const int k1 = k0 + SRF_PLANES < g->nc[2] ? k0 + SRF_PLANES : g->nc[2];
+            const double zlo = g->lo[2] + k0 * g->dx - h, zhi = g->lo[2] + (k1 - 1) * g->dx + h;
+            const int c0 = clampi((long)floor((zlo - c.lo[2]) / h), 0, c.nc[2] - 1);
+            const int c1 = clampi((long)floor((zhi - c.lo[2]) / h), 0, c.nc[2] - 1);
+            for (size_t s = c.start[(size_t)c0 * per_layer];
+                 s < c.start[(size_t)(c1 + 1) * per_layer]; s++)
+                if (lone[s]) ball_one(g, ball, iso, c.x[s], c.y[s], c.z[s], k0, k1);
+        }
+        free(lone);
     }
     cells_free(&c);
 }

@@ -14,7 +14,8 @@
 #define SRF_MAX_POINTS ((size_t)1 << 31)
 #define SRF_MAX_SMOOTHING 20
 
-const char *const srf_keys[] = {"gridSpacing", "isoValue", "kernelRadius", "smoothing", NULL};
+const char *const srf_keys[] = {"gridSpacing", "isoValue",      "kernelRadius",
+                                "smoothing",   "dropletRadius", NULL};
 
 void srf_params_default(srf_params *p)
 {
@@ -22,6 +23,7 @@ void srf_params_default(srf_params *p)
     p->iso_value = 0.5;
     p->kernel_radius = 2.0;
     p->smoothing = 0;
+    p->droplet_radius = 0.5;
 }
 
 void srf_params_read(const dict *d, srf_params *p)
@@ -36,6 +38,8 @@ void srf_params_read(const dict *d, srf_params *p)
     dict_need(dict_get_scalar_or(d, "kernelRadius", p->kernel_radius, &p->kernel_radius, &err),
               &err);
     dict_need(dict_get_int_or(d, "smoothing", p->smoothing, &sm, &err), &err);
+    dict_need(dict_get_scalar_or(d, "dropletRadius", p->droplet_radius, &p->droplet_radius, &err),
+              &err);
     dict_need_positive(d, "gridSpacing", p->grid_spacing);
     if (p->grid_spacing < 0.05 || p->grid_spacing > 4)
         dict_fatal(d, "gridSpacing", "%g must be between 0.05 and 4 (times particleSpacing)",
@@ -50,6 +54,9 @@ void srf_params_read(const dict *d, srf_params *p)
         dict_fatal(d, "smoothing", "%ld must be between 0 and %d (filter passes)", sm,
                    SRF_MAX_SMOOTHING);
     p->smoothing = (int)sm;
+    if (p->droplet_radius < 0 || 2 * p->droplet_radius > p->kernel_radius)
+        dict_fatal(d, "dropletRadius", "%g must be between 0 and kernelRadius / 2 = %g",
+                   p->droplet_radius, p->kernel_radius / 2);
 }
 
 int srf_reconstruct(const srf_particles *in, const srf_params *prm, srf_mesh *m, sl_err *err)
@@ -99,7 +106,12 @@ int srf_reconstruct(const srf_particles *in, const srf_params *prm, srf_mesh *m,
         return 1;
     }
     g.f = sl_malloc(npts * sizeof *g.f, "surface grid");
-    srf_colour_field(in, h, &g);
+    /* a ball narrower than the grid step might hold no grid point (a grid
+     * point lies within sqrt(3)/2 dx of any particle) */
+    double ball = prm->droplet_radius * in->r0;
+    if (ball > 0 && ball < dx) ball = dx;
+    if (2 * ball > h) ball = h / 2; /* the scatter's reach */
+    srf_colour_field(in, h, ball, prm->iso_value, &g);
     srf_smooth(&g, prm->smoothing);
     srf_contour(&g, prm->iso_value, m);
     free(g.f);

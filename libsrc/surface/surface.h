@@ -10,6 +10,15 @@
  *      by particle; each thread owns a block of grid planes, so every grid
  *      value is summed in the same particle order by one thread: the same
  *      field for any thread count.
+ *      A particle where the sampled field (trilinear between the grid
+ *      points) is not above iso -- a lone drop, a jet one particle thin, a
+ *      pair whose narrow peak falls between grid points -- would lie
+ *      outside the surface: it raises the field to a ball of radius
+ *      rb = dropletRadius r0 around it, f = max(f, iso (2 - d / rb)), so it
+ *      keeps a closed surface of its own (its volume underestimated, 0.52
+ *      r0^3 for rb = r0 / 2, rather than lost).  rb is at least the grid
+ *      step dx, so that a grid point lies inside every ball.  The other
+ *      particles, the bulk and its surface, are left as the field has them.
  *   2. Optionally `smoothing` passes of the separable [1 2 1]/4 filter
  *      (symmetric: a flat surface stays where it is).
  *   3. The iso-surface c = isoValue (default 1/2) by marching cubes.  The
@@ -48,6 +57,7 @@ typedef struct srf_params {
     double iso_value;    /* isoValue: the colour level of the surface (0.5) */
     double kernel_radius;/* kernelRadius: the support h in units of r0 (2, the solver's) */
     int smoothing;       /* smoothing: passes of the [1 2 1]/4 filter (0) */
+    double droplet_radius; /* dropletRadius: a lone particle's ball, units of r0 (0.5; 0: none) */
 } srf_params;
 
 /* The particles of one time: n positions and (optional, NULL) fields. */
@@ -102,8 +112,10 @@ typedef struct srf_grid {
     float *f;
 } srf_grid;
 
-/* Colour field of the particles on g (g->lo, dx, nc set; f allocated). */
-void srf_colour_field(const srf_particles *in, double h, srf_grid *g);
+/* Colour field of the particles on g (g->lo, dx, nc set; f allocated),
+ * raised to the balls of radius ball (0: none; 2 ball <= h) of the
+ * particles where it is not above iso. */
+void srf_colour_field(const srf_particles *in, double h, double ball, double iso, srf_grid *g);
 /* passes of the [1 2 1]/4 filter along x, y and z. */
 void srf_smooth(srf_grid *g, int passes);
 /* Marching cubes of g at level iso into m (vertices and triangles only). */

@@ -12,8 +12,12 @@ key=value lines:
     area=A volume=V                 vtkMassProperties
     velocity=1 pressure=1           the point arrays are there (1) or not (0)
 
-With FLUID.vtu also the signed distance (vtkImplicitPolyDataDistance,
-negative inside) of every particle to the surface:
+With FLUID.vtu also which particles lie outside the surface and how far.
+A particle counts as outside when both VTK tests say so: ray casting
+(vtkSelectEnclosedPoints) and the sign of vtkImplicitPolyDataDistance
+(from the normal at the nearest point).  Each alone misjudges a few
+points: the sign deep inside a complicated surface, the rays (seen on a
+dam break) for particles with 30 neighbours 3 r0 inside.
 
     particles=N max_outside=D       the largest distance outside (0 if none)
     outside=K                       particles outside at all
@@ -25,6 +29,7 @@ import sys
 
 import vtkmodules.vtkCommonCore as vcc
 from vtkmodules.vtkFiltersCore import vtkFeatureEdges, vtkImplicitPolyDataDistance, vtkMassProperties
+from vtkmodules.vtkFiltersModeling import vtkSelectEnclosedPoints
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLUnstructuredGridReader
 
 problems = []
@@ -68,10 +73,17 @@ def main():
     print("pressure=%d" % (pd.GetArray("pressure") is not None))
     if len(sys.argv) > 2:
         f = read(vtkXMLUnstructuredGridReader, sys.argv[2])
+        enc = watch(vtkSelectEnclosedPoints())
+        enc.SetInputData(f)
+        enc.SetSurfaceData(s)
+        enc.CheckSurfaceOn()
+        enc.Update()
         d = watch(vtkImplicitPolyDataDistance())
         d.SetInput(s)
         worst, outside = 0.0, 0
         for i in range(f.GetNumberOfPoints()):
+            if enc.IsInside(i):
+                continue
             v = d.EvaluateFunction(f.GetPoint(i))
             if v > 0:
                 outside += 1

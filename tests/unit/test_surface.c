@@ -187,7 +187,7 @@ static srf_particles ball_particles(const ball *b)
 
 /* The ball's volume and area errors (fractions) against the sphere of
  * volume N r0^3, at grid spacing `dx` and kernel radius `h` (units of r0). */
-static void ball_errors(const ball *b, double dx, double h, double *ev, double *ea)
+static void ball_errors(const ball *b, double dx, double h, double drop, double *ev, double *ea)
 {
     srf_particles p = ball_particles(b);
     const double vol = (double)b->n * pow(b->r0, 3), R = cbrt(3 * vol / (4 * M_PI));
@@ -197,13 +197,15 @@ static void ball_errors(const ball *b, double dx, double h, double *ev, double *
     srf_params_default(&prm);
     prm.grid_spacing = dx;
     prm.kernel_radius = h;
+    prm.droplet_radius = drop;
     assert_int_equal(srf_reconstruct(&p, &prm, &m, &err), 0);
     assert_closed_oriented(&m);
     *ev = srf_volume(&m) / vol - 1;
     *ea = srf_area(&m) / (4 * M_PI * R * R) - 1;
-    print_message("ball of %zu particles, kernel radius %.1f r0, grid %.2f r0: %zu triangles, "
-                  "volume %+.3f %%, area %+.3f %% of the sphere of volume N r0^3\n",
-                  b->n, h, dx, m.nt, 100 * *ev, 100 * *ea);
+    print_message("ball of %zu particles, kernel radius %.1f r0, dropletRadius %.1f r0, grid %.2f "
+                  "r0: %zu triangles, volume %+.3f %%, area %+.3f %% of the sphere of volume N "
+                  "r0^3\n",
+                  b->n, h, drop, dx, m.nt, 100 * *ev, 100 * *ea);
     for (size_t v = 0; v < m.nv; v++) {
         assert_true(fabs(m.vx[v] - 1) < 1e-12 && fabs(m.vy[v] - 2) < 1e-12);
         assert_true(fabs(m.vz[v] - 3) < 1e-12 && fabs(m.p[v] - 5) < 1e-12);
@@ -211,11 +213,13 @@ static void ball_errors(const ball *b, double dx, double h, double *ev, double *
     srf_mesh_free(&m);
 }
 
-/* A ball of radius 12 r0 (7245 particles) with kernelRadius 3: area and
- * volume within 2 %, both errors falling as the grid goes 1, 1/2, 1/4 r0.
+/* A ball of radius 12 r0 (7245 particles) with kernelRadius 3 (and no
+ * droplet balls: the colour field alone): area and volume within 2 %, both
+ * errors falling as the grid goes 1, 1/2, 1/4 r0.
  * With the solver's h = 2 r0 (the default) the lattice's terraces show in
  * the colour field itself, so the area error does not fall below about
- * +1.2 % (R = 8 r0) with the grid: checked within 2 % at the default grid. */
+ * +1.2 % (R = 8 r0) with the grid: the defaults are checked within 2 % at
+ * the default grid. */
 static void test_ball_area_volume(void **state)
 {
     (void)state;
@@ -223,7 +227,7 @@ static void test_ball_area_volume(void **state)
     const double spacing[] = {1.0, 0.5, 0.25};
     double ev[3], ea[3];
     for (int s = 0; s < 3; s++) {
-        ball_errors(&b, spacing[s], 3.0, &ev[s], &ea[s]);
+        ball_errors(&b, spacing[s], 3.0, 0.0, &ev[s], &ea[s]);
         assert_true(fabs(ev[s]) < 0.02);
         assert_true(fabs(ea[s]) < 0.02);
         if (s > 0) {
@@ -233,9 +237,54 @@ static void test_ball_area_volume(void **state)
     }
     free_ball(&b);
     b = make_ball(8.0, 0.01);
-    ball_errors(&b, 0.5, 2.0, &ev[0], &ea[0]);
+    ball_errors(&b, 0.5, 2.0, 0.4, &ev[0], &ea[0]);
     assert_true(fabs(ev[0]) < 0.02);
     assert_true(fabs(ea[0]) < 0.02);
+    free_ball(&b);
+}
+
+/* A lone particle beside a ball: its colour stays below isoValue, yet it
+ * keeps a closed ball of its own of radius dropletRadius (and with
+ * dropletRadius 0 it vanishes). */
+static void test_lone_drop_kept(void **state)
+{
+    (void)state;
+    ball b = make_ball(5.0, 0.01);
+    b.x[b.n] = 1.0 + 0.2; /* 20 r0 from the ball's centre */
+    b.y[b.n] = -2.0;
+    b.z[b.n] = 0.5;
+    b.vx[b.n] = b.vy[b.n] = b.vz[b.n] = 0;
+    b.p[b.n] = 0;
+    b.n++;
+    srf_particles p = ball_particles(&b);
+    for (int on = 0; on < 2; on++) {
+        srf_params prm;
+        srf_mesh m;
+        sl_err err;
+        srf_params_default(&prm);
+        if (!on) prm.droplet_radius = 0;
+        assert_int_equal(srf_reconstruct(&p, &prm, &m, &err), 0);
+        assert_closed_oriented(&m);
+        size_t near = 0;
+        double far = 0;
+        for (size_t v = 0; v < m.nv; v++) {
+            double d = hypot(hypot(m.x[v] - 1.2, m.y[v] + 2.0), m.z[v] - 0.5);
+            if (d < 0.01) {
+                near++;
+                if (d > far) far = d;
+            }
+        }
+        if (on) {
+            assert_true(near >= 6);
+            assert_true(fabs(far - 0.5 * 0.01) < 0.2 * 0.01);
+        } else {
+            assert_int_equal(near, 0);
+        }
+        print_message("lone particle, dropletRadius %.1f r0 (at least the grid step r0/2): %zu "
+                      "vertices within r0 of it, the farthest %.2f r0\n",
+                      on ? 0.5 : 0.0, near, far / 0.01);
+        srf_mesh_free(&m);
+    }
     free_ball(&b);
 }
 
@@ -400,6 +449,7 @@ static void test_bad_surface_dict(void **state)
         {"gridSpacing abc;", "gridSpacing", "expected a number"},
         {"smoothing 50;", "smoothing", "between 0 and"},
         {"kernelRadius 0.5;", "kernelRadius", "between 1 and 6"},
+        {"dropletRadius 1.5;", "dropletRadius", "kernelRadius / 2"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
         char text[256];
@@ -430,6 +480,7 @@ static void test_annotated_dict_is_the_defaults(void **state)
     srf_params_default(&def);
     assert_true(a.grid_spacing == def.grid_spacing && a.iso_value == def.iso_value);
     assert_true(a.kernel_radius == def.kernel_radius && a.smoothing == def.smoothing);
+    assert_true(a.droplet_radius == def.droplet_radius);
     for (const char *const *k = srf_keys; *k; k++) assert_true(dict_has(d, *k));
     dict_free(d);
 }
@@ -440,6 +491,7 @@ int main(void)
         cmocka_unit_test(test_annotated_dict_is_the_defaults),
         cmocka_unit_test(test_random_fields_closed),
         cmocka_unit_test(test_ball_area_volume),
+        cmocka_unit_test(test_lone_drop_kept),
         cmocka_unit_test(test_ball_same_for_any_threads),
         cmocka_unit_test(test_ball_vtp_reads_back_in_vtk),
         cmocka_unit_test(test_dam_break_surfaces),

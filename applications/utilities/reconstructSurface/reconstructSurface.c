@@ -34,6 +34,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 
 static const app_option options[] = {
     APP_CASE,
@@ -161,6 +162,14 @@ static void read_params(const sl_case *c, srf_params *prm)
     free(path);
 }
 
+/* CPU seconds of the process (all threads). */
+static double cpu_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 int main(int argc, char **argv)
 {
     sl_threads_passive(argv); /* before any parallel region */
@@ -177,7 +186,7 @@ int main(int argc, char **argv)
     if (times.n == 0) sl_fatal("%s: no time directory with fluid.vtu selected", c.dir);
     sl_progress prog;
     sl_progress_start(&prog, stdout, 0, (double)times.n, 10);
-    double t0 = omp_get_wtime(), particle_sum = 0;
+    double t0 = omp_get_wtime(), c0 = cpu_seconds(), particle_sum = 0;
     size_t done = 0;
 #pragma omp parallel for schedule(dynamic, 1) if (par)
     for (size_t i = 0; i < times.n; i++) {
@@ -197,13 +206,15 @@ int main(int argc, char **argv)
         }
     }
     sl_progress_end(&prog);
-    const double wall = omp_get_wtime() - t0;
+    const double wall = omp_get_wtime() - t0, cpu = cpu_seconds() - c0;
     write_collection(c.dir);
-    sl_info("reconstructSurface: %zu time%s in %.2f s wall (%s, %d thread%s): %.3f s per frame, "
-            "%.3g s per frame per million particles",
-            times.n, times.n == 1 ? "" : "s", wall, par ? "-parallel" : "threads per frame",
+    const double mega = particle_sum / 1e6;
+    sl_info("reconstructSurface: %zu time%s in %.2f s wall, %.2f CPU s (%s, %d thread%s): "
+            "%.3f s wall and %.3f CPU s per frame; per frame per million particles %.3g s wall, "
+            "%.3g CPU s",
+            times.n, times.n == 1 ? "" : "s", wall, cpu, par ? "-parallel" : "threads per frame",
             omp_get_max_threads(), omp_get_max_threads() == 1 ? "" : "s", wall / (double)times.n,
-            particle_sum > 0 ? wall / (particle_sum / 1e6) : 0.0);
+            cpu / (double)times.n, mega > 0 ? wall / mega : 0.0, mega > 0 ? cpu / mega : 0.0);
     tdir_list_free(&times);
     case_free(&c);
     app_free(&a);

@@ -99,7 +99,7 @@ static double wave_period(const vc_sample *s, size_t n, double Te, int *ncross)
 /* <case>/postProcessing/verifyCase/summary.dat: one row, for sweepCase's
  * results (e.g. postProcessing/verifyCase/summary.dat:error). */
 static void write_summary(const sl_case *c, const vc_setup *s, double error, double perr,
-                          double vrms, double wall, long steps)
+                          double vrms, double wall, long steps, double reached)
 {
     sl_err err;
     char path[4096];
@@ -109,10 +109,11 @@ static void write_summary(const sl_case *c, const vc_setup *s, double error, dou
     FILE *f = fopen(path, "w");
     if (!f) sl_fatal("cannot write '%s'", path);
     fprintf(f, "# verifyCase: %s against its exact answer (system/verifyDict)\n"
-               "# error\tpressureError\tvelocityRms\tparticles\tr0\twallTime\tsteps\n",
+               "# reached: the latest written time over endTime (< 1: the run stopped early)\n"
+               "# error\tpressureError\tvelocityRms\tparticles\tr0\twallTime\tsteps\treached\n",
             vc_kind_names[s->kind]);
-    fprintf(f, "%.8g\t%.8g\t%.8g\t%zu\t%g\t%.6g\t%ld\n", error, perr, vrms, s->nfluid, s->r0,
-            wall, steps);
+    fprintf(f, "%.8g\t%.8g\t%.8g\t%zu\t%g\t%.6g\t%ld\t%.6g\n", error, perr, vrms, s->nfluid,
+            s->r0, wall, steps, reached);
     if (fclose(f)) sl_fatal("cannot write '%s'", path);
 }
 
@@ -182,7 +183,12 @@ int main(int argc, char **argv)
     const double wall = wall_time(c.dir, &steps);
     printf("%s: %s error %.6g (%s), %zu particles, r0 %g m, %.3g s wall in %ld steps\n", c.dir,
            vc_kind_names[s.kind], error, what, s.nfluid, s.r0, wall, steps);
-    write_summary(&c, &s, error, smp[times.n - 1].perr, smp[times.n - 1].vrms, wall, steps);
+    const double last = times.time[times.n - 1], reached = last / c.ctl.end_time;
+    if (last < c.ctl.end_time - 1e-9 * (1.0 + c.ctl.end_time))
+        sl_warning("%s: the run stopped at t = %g s before its endTime %g s: the error is that "
+                   "of the times written", c.dir, last, c.ctl.end_time);
+    write_summary(&c, &s, error, smp[times.n - 1].perr, smp[times.n - 1].vrms, wall, steps,
+                  reached);
     if (table) {
         const char *label = app_string(&a, "label", NULL);
         if (!label) {
