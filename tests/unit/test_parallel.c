@@ -6,7 +6,8 @@
  * filling (emitter); restart files written by 2 ranks continued on 3 give
  * the uninterrupted serial run; the filling's first steps leave ranks
  * without fluid rows; a periodic channel on 3 ranks gives the serial
- * files; 2 ranks x 2 threads the same.  Without MPI in the build (make
+ * files; 2 ranks x 2 threads the same; the halo mode (the default where
+ * it applies) and the gather mode both (pcs_parallel.h).  Without MPI in the build (make
  * MPI=no) or without mpirun, every test is reported skipped. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -114,6 +115,32 @@ static void test_ranks_times_threads(void **state)
     assert_int_equal(run_np("tests/cases/damBreakShort", "parDamSerialT", dam, 0), 0);
     assert_int_equal(run_np("tests/cases/damBreakShort", "parDam2x2", edit, 2), 0);
     same_output("parDamSerialT", "parDam2x2");
+}
+
+/* The gather mode of phase 1 (SLUICE_PARALLEL_EXCHANGE=gather), and a
+ * boundary method without wall density (becker2009, which uses it): the
+ * serial files too. */
+static void test_gather_mode_and_becker(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    char edit[2048];
+    snprintf(edit, sizeof edit,
+             "%s && sed -i 's/^method .*/method becker2009;/' "
+             "constant/boundaryProperties",
+             dam);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parGatherSerial", dam, 0), 0);
+    setenv("SLUICE_PARALLEL_EXCHANGE", "gather", 1);
+    int rc = run_np("tests/cases/damBreakShort", "parGather2", dam, 2);
+    unsetenv("SLUICE_PARALLEL_EXCHANGE");
+    assert_int_equal(rc, 0);
+    same_output("parGatherSerial", "parGather2");
+    assert_int_equal(system("grep -q 'parallel: gather mode' tests/output/parGather2/log.pcisph"),
+                     0);
+    assert_int_equal(system("grep -q 'parallel: halo mode' tests/output/parDam2/log.pcisph"), 0);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parBeckerSerial", edit, 0), 0);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parBecker3", edit, 3), 0);
+    same_output("parBeckerSerial", "parBecker3");
 }
 
 /* The rocking tank: the moving walls are placed by every rank alike. */
@@ -233,10 +260,15 @@ int main(void)
     setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 0);
     setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 0);
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_dam_break_np123),         cmocka_unit_test(test_ranks_times_threads),
-        cmocka_unit_test(test_moving_boundary),         cmocka_unit_test(test_emitter),
-        cmocka_unit_test(test_restart_2_then_3),        cmocka_unit_test(test_periodic),
-        cmocka_unit_test(test_mpirun_without_parallel), cmocka_unit_test(test_decompose_case),
+        cmocka_unit_test(test_dam_break_np123),
+        cmocka_unit_test(test_ranks_times_threads),
+        cmocka_unit_test(test_gather_mode_and_becker),
+        cmocka_unit_test(test_moving_boundary),
+        cmocka_unit_test(test_emitter),
+        cmocka_unit_test(test_restart_2_then_3),
+        cmocka_unit_test(test_periodic),
+        cmocka_unit_test(test_mpirun_without_parallel),
+        cmocka_unit_test(test_decompose_case),
     };
     return cmocka_run_group_tests_name("parallel", tests, NULL, NULL);
 }
