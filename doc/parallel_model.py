@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """The scaling model of doc/parallel.md: predicted time per step and
-efficiency of pcisph -parallel on P ranks (one core each), for the
-replicated phase that exists (phase 1) and for the halo decomposition
-that does not yet (phase 2).  Inputs measured on this machine are named
+efficiency of pcisph -parallel on P ranks (one core each), for the two
+modes that exist (phase 1 gather mode, phase 1b halo mode) and for the
+domain decomposition that does not yet (phase 2).  Inputs measured on this machine are named
 below; the interconnect figures are published ones (100 Gb/s InfiniBand,
 1-2 us).  Run: python3 doc/parallel_model.py
 """
@@ -17,6 +17,10 @@ ACTIVE = 0.21        # active boundary particles per fluid particle (3 doubles e
 KAPPA = (3.8, 12.0)  # fluid halo per rank = kappa (N/P)^(2/3): RCB of damBreak (walls,
                      # free surface) .. a cube inside the fluid, 12 n^(2/3) (decomposeCase)
 SEARCH = 0.10        # share of a step in the search (sort and lists), which the halo adds to
+F_OWN = 0.80         # halo mode: share of a serial step in the own-row work (prediction,
+                     # collision, density, pressure force, integration: 0.49 of 0.61 s)
+KAPPA_ROWS = 9.1     # halo of the rows partition: 1894 / 2995^(2/3) (decomposeCase, 8 ranks)
+STATE = 8            # halo mode: arrays gathered once per step (x, v, p, rho)
 # ---- published: 100 Gb/s InfiniBand ----
 ALPHA = 1.5e-6       # s latency per message
 BW = 12.5e9          # bytes/s
@@ -37,6 +41,20 @@ def phase1(n, p, f_split=F_SPLIT):
     comm = ITER * (ARRAYS * allgatherv(8 * n, p) + allgatherv(24 * ACTIVE * n, p) + allreduce(p))
     return compute, comm
 
+def phase1b(n, p):
+    """Halo mode: every rank does the search and forces of all n particles
+    (1 - F_OWN), its own rows' share of the rest; per iteration x* and
+    p/rho^2 of the rows partition's halo by personalised exchange
+    (Alltoallv: P - 1 messages, most of them empty, at alpha each), the
+    block sums (small) and a max; per step the state (STATE arrays of N)
+    by Allgatherv."""
+    nl = n / p
+    halo = KAPPA_ROWS * nl ** (2.0 / 3.0) if p > 1 else 0.0
+    compute = n * C * ((1 - F_OWN) + F_OWN / p)
+    per_iter = 2 * (p - 1) * ALPHA + 32 * halo / BW + allgatherv(8 * p, p) + allreduce(p)
+    per_step = STATE * allgatherv(8 * n, p) + allgatherv(24 * ACTIVE * n, p) + 3 * allreduce(p)
+    return compute, ITER * per_iter + per_step
+
 def phase2(n, p, kappa):
     """Halo decomposition (RCB by count): each rank computes n/P particles
     plus the search over its halo; per iteration two halo exchanges (x*
@@ -54,6 +72,7 @@ def phase2(n, p, kappa):
 def table(title, n_of_p, ps, ref_p):
     print(f"\n{title}")
     print(f"{'ranks':>6} {'N':>10} | {'phase 1: s/step':>15} {'comm %':>7} {'eff':>6} |"
+          f" {'1b halo: s/step':>15} {'comm %':>7} {'eff':>6} |"
           f" {'phase 2: s/step':>15} {'comm %':>7} {'eff':>6} (kappa {KAPPA[0]}..{KAPPA[1]})")
     base1 = base2 = None
     for p in ps:
@@ -69,7 +88,10 @@ def table(title, n_of_p, ps, ref_p):
         ideal = n_of_p(p) * C / p
         e1 = ideal / t1
         e2 = [ideal / t for t in t2]
+        cb, mb = phase1b(n, p)
+        tb = cb + mb
         print(f"{p:>6} {n:>10.3g} | {t1:>15.4g} {100 * m1 / t1:>6.1f}% {100 * e1:>5.1f}% |"
+              f" {tb:>15.4g} {100 * mb / tb:>6.1f}% {100 * ideal / tb:>5.1f}% |"
               f" {t2[0]:>7.4g}-{t2[1]:<7.4g} {100 * m2[1] / t2[1]:>6.1f}% "
               f"{100 * e2[1]:>3.0f}-{100 * e2[0]:<3.0f}%")
 

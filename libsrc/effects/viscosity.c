@@ -8,7 +8,8 @@
 #include "kernel/sph_sums.h"
 
 void visc_apply(const visc_params *p, const krn_kernel *k, double mass, double rho0,
-                sl_fluid *f, const sl_boundary *b, const nbr_list *ff, const nbr_list *fb)
+                sl_fluid *f, const sl_boundary *b, const nbr_list *ff, const nbr_list *fb,
+                size_t i0, size_t i1)
 {
     const double nu = p->coef / rho0;
     const double nub = p->coef_boundary / rho0;
@@ -16,7 +17,7 @@ void visc_apply(const visc_params *p, const krn_kernel *k, double mass, double r
     const krn_kernel kk = *k;
     /* -m Pi grad W with Pi = -nu pr: + m nu pr gradf x_ij */
 #pragma omp parallel for schedule(dynamic, 512)
-    for (size_t i = 0; i < f->n; i++) {
+    for (size_t i = i0; i < i1; i++) {
         const double pi[3] = {f->x[i], f->y[i], f->z[i]}, vi[3] = {f->vx[i], f->vy[i], f->vz[i]};
         double a[3] = {0.0, 0.0, 0.0};
         sph_sum_viscosity(kk, ff->idx, ff->start[i], ff->start[i + 1], pi, vi, f->x, f->y, f->z,
@@ -64,7 +65,8 @@ static void *read(const dict *d, const eff_setup *su)
 
 static void apply(void *state, const eff_view *v)
 {
-    visc_apply(state, &v->k, v->mass, v->rho0, v->f, v->b, v->ff, v->fb);
+    visc_apply(state, &v->k, v->mass, v->rho0, v->f, v->b, v->ff, v->fb,
+               eff_rows_from(v), eff_rows_to(v));
 }
 
 const eff_type eff_viscosity = {

@@ -204,3 +204,88 @@ void par_barrier(void)
     if (size_ > 1) MPI_Barrier(MPI_COMM_WORLD);
 #endif
 }
+
+long par_sum_long(long v)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ == 1) return v;
+    long out;
+    COUNTED(size_ - 1, (size_t)(size_ - 1) * sizeof v,
+            MPI_Allreduce(&v, &out, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD));
+    return out;
+#else
+    return v;
+#endif
+}
+
+void par_allgatherv(const double *mine, int n, double *all, const int *cnt, const int *dis)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ > 1) {
+        long got = 0;
+        for (int r = 0; r < size_; r++) got += r == rank_ ? 0 : cnt[r];
+        COUNTED(size_ - 1, (size_t)got * sizeof(double),
+                MPI_Allgatherv(mine, n, MPI_DOUBLE, all, cnt, dis, MPI_DOUBLE, MPI_COMM_WORLD));
+        return;
+    }
+#endif
+    for (int k = 0; k < n; k++) all[dis[0] + k] = mine[k];
+    (void)cnt;
+}
+
+void par_alltoall_int(const int *send, int *recv)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ > 1) {
+        COUNTED(size_ - 1, (size_t)(size_ - 1) * sizeof(int),
+                MPI_Alltoall(send, 1, MPI_INT, recv, 1, MPI_INT, MPI_COMM_WORLD));
+        return;
+    }
+#endif
+    recv[0] = send[0];
+}
+
+#ifdef SL_HAVE_MPI
+/* Messages of a personalised exchange: the ranks a rank receives from. */
+static long senders(const int *rcnt)
+{
+    long m = 0;
+    for (int r = 0; r < size_; r++) m += r != rank_ && rcnt[r] > 0;
+    return m;
+}
+
+static long received(const int *rcnt)
+{
+    long got = 0;
+    for (int r = 0; r < size_; r++) got += r == rank_ ? 0 : rcnt[r];
+    return got;
+}
+#endif
+
+void par_alltoallv_u32(const uint32_t *s, const int *scnt, const int *sdis, uint32_t *r,
+                       const int *rcnt, const int *rdis)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ > 1) {
+        COUNTED(senders(rcnt), (size_t)received(rcnt) * sizeof *r,
+                MPI_Alltoallv(s, scnt, sdis, MPI_UINT32_T, r, rcnt, rdis, MPI_UINT32_T,
+                              MPI_COMM_WORLD));
+        return;
+    }
+#endif
+    for (int k = 0; k < scnt[0]; k++) r[rdis[0] + k] = s[sdis[0] + k];
+}
+
+void par_alltoallv_double(const double *s, const int *scnt, const int *sdis, double *r,
+                          const int *rcnt, const int *rdis)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ > 1) {
+        COUNTED(
+            senders(rcnt), (size_t)received(rcnt) * sizeof *r,
+            MPI_Alltoallv(s, scnt, sdis, MPI_DOUBLE, r, rcnt, rdis, MPI_DOUBLE, MPI_COMM_WORLD));
+        return;
+    }
+#endif
+    for (int k = 0; k < scnt[0]; k++) r[rdis[0] + k] = s[sdis[0] + k];
+}

@@ -16,6 +16,7 @@
 #define SL_PAR_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 /* 1 when this build has MPI. */
 int par_built(void);
@@ -41,6 +42,20 @@ void par_gather_one(double *v);
 int par_max_int(int v);
 double par_max_double(double v);
 double par_min_double(double v);
+/* Sum of a count over the ranks (exact). */
+long par_sum_long(long v);
+/* Every rank's n[r] values of `mine` to every rank, in rank order, into
+ * all (counts cnt, displacements dis, in doubles). */
+void par_allgatherv(const double *mine, int n, double *all, const int *cnt, const int *dis);
+/* Personalised exchange: send[r] ints to rank r, recv[r] from it. */
+void par_alltoall_int(const int *send, int *recv);
+/* Personalised exchange of uint32 / doubles by counts and displacements
+ * (in elements) per rank. */
+void par_alltoallv_u32(const uint32_t *s, const int *scnt, const int *sdis, uint32_t *r,
+                       const int *rcnt, const int *rdis);
+void par_alltoallv_double(const double *s, const int *scnt, const int *sdis, double *r,
+                          const int *rcnt, const int *rdis);
+
 /* Rank 0's bytes to every rank. */
 void par_bcast(void *buf, size_t bytes);
 void par_barrier(void);

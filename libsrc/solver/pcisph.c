@@ -12,6 +12,7 @@
 #include "core/sl_reduce.h"
 #include "kernel/sph_sums.h"
 #include "parallel/par.h"
+#include "solver/pcs_parallel.h"
 
 /* Accumulate the wall-clock time of `body` in s->time.<phase>. */
 #define PHASE(s, phase, body)                                                  \
@@ -120,11 +121,16 @@ static void boundary_density(const pcs_solver *s)
     const double *restrict brs = b->rho_static;
     double *restrict brho = b->rho, *restrict bp = b->p, *restrict bpt = b->pt;
     double *restrict buf = s->split.bbuf;
-    const size_t q0 = s->split.act[s->split.rank], q1 = s->split.act[s->split.rank + 1];
-    const int packed = s->split.size > 1;
+    /* -parallel: this rank's share of the active ones (gathered after the
+     * pass), or in halo mode the ones its rows see (pcs_parallel.h) */
+    const int halo = s->split.halo;
+    const size_t q0 = halo ? 0 : s->split.act[s->split.rank];
+    const size_t q1 = halo ? s->split.nbset : s->split.act[s->split.rank + 1];
+    const uint32_t *restrict set = halo ? s->split.bset : act;
+    const int packed = s->split.size > 1 && !halo;
 #pragma omp for schedule(dynamic, 256) nowait
     for (size_t q = q0; q < q1; q++) {
-        const uint32_t i = act[q];
+        const uint32_t i = set[q];
         const double r = brs[i] + m * sph_sum_w(k, bfi, bfs[i], bfs[i + 1], bx[i], by[i], bz[i],
                                                  xs, ys, zs); /* eq. (13) */
         const double pn = bp[i] + delta * (r - rho0);
@@ -369,7 +375,9 @@ pressure_one(const pass_ctx *c, size_t i, const wall_pressure_fn wall_term)
             }                                                                      \
             if (M##_wall_density) boundary_density(s);                             \
         }                                                                          \
-        if (s->split.size > 1) emax = gather_predicted(s, M##_wall_density, emax); \
+        if (s->split.size > 1)                                                     \
+            emax = s->split.halo ? pcx_after_density(s, emax)                      \
+                                 : gather_predicted(s, M##_wall_density, emax);    \
         double total = 0.0;                                                        \
         for (size_t blk = 0; blk < nb; blk++) total += part[blk];                  \
         s->err_sum = total;                                                        \
@@ -382,7 +390,7 @@ pressure_one(const pass_ctx *c, size_t i, const wall_pressure_fn wall_term)
         const size_t i0 = s->split.row[s->split.rank], i1 = s->split.row[s->split.rank + 1]; \
         _Pragma("omp parallel for schedule(dynamic, 1024)")                        \
         for (size_t i = i0; i < i1; i++) pressure_one(&c, i, M##_pressure);        \
-        if (s->split.size > 1) gather_force(s);                                    \
+        if (s->split.size > 1 && !s->split.halo) gather_force(s);                  \
     }                                                                              \
     static void M##_current(pcs_solver *s)                                         \
     {                                                                              \
@@ -456,6 +464,7 @@ void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b,
     }
     for (size_t i = 0; i < f->n; i++) f->rho[i] = p->rho0; /* until the first pass */
     split_init(&s->split, b->n);
+    s->split.halo = pcx_usable(s);
     pcs_set_dt(s, dt);
 }
 
@@ -473,6 +482,7 @@ void pcs_free(pcs_solver *s)
     if (s->prm.method && s->prm.method->free) s->prm.method->free(s->bstate);
     free(s->dens);
     dom_halo_free(&s->halo);
+    pcx_free(s);
     free(s->split.row);
     free(s->split.act);
     sl_free_aligned(s->split.bbuf);
@@ -526,6 +536,7 @@ void pcs_find_neighbours(pcs_solver *s)
     PHASE(s, list_ff, nbr_build_fluid(&s->grid, s->f, s->b, &s->ff, &s->fb));
     PHASE(s, list_bf, nbr_transpose(&s->fb, s->b->n, &s->bf, s->active, &s->nactive));
     split_rows(s);
+    if (s->split.halo) pcx_build(s);
 }
 
 /* Non-pressure forces per unit mass (the forces-stage effects the case
@@ -553,6 +564,11 @@ static void compute_forces(pcs_solver *s)
         for (size_t q = 0; q < s->nactive; q++) pb[act[q]] = 0.0;
     }
     eff_view v = effect_view(s, s->t, s->dt, f->x, f->y, f->z);
+    if (s->split.halo) { /* a rank predicts and integrates its own rows only */
+        v.rows_only = 1;
+        v.row0 = s->split.row[s->split.rank];
+        v.row1 = s->split.row[s->split.rank + 1];
+    }
     eff_run(s->eff, EFF_FORCES, &v);
 }
 
@@ -563,13 +579,34 @@ static size_t collide(pcs_solver *s, double *x, double *y, double *z, double *vx
     return s->prm.method->collide(s->bstate, &s->bsu, &s->fb, s->b, s->f->n, x, y, z, vx, vy, vz);
 }
 
+/* The rows a rank integrates: its own in halo mode, else all. */
+static void own_rows(const pcs_solver *s, size_t *i0, size_t *i1)
+{
+    *i0 = s->split.halo ? s->split.row[s->split.rank] : 0;
+    *i1 = s->split.halo ? s->split.row[s->split.rank + 1] : s->f->n;
+}
+
+/* World collision of rows [i0, i1) (the lists seen from row i0). */
+static size_t collide_rows(pcs_solver *s, size_t i0, size_t i1, double *x, double *y, double *z,
+                           double *vx, double *vy, double *vz)
+{
+    if (i0 == 0 && i1 == s->f->n) return collide(s, x, y, z, vx, vy, vz);
+    nbr_list v = s->fb;
+    v.start = s->fb.start + i0;
+    v.n = i1 - i0;
+    return s->prm.method->collide(s->bstate, &s->bsu, &v, s->b, i1 - i0, x + i0, y + i0, z + i0,
+                                  vx ? vx + i0 : NULL, vy ? vy + i0 : NULL, vz ? vz + i0 : NULL);
+}
+
 /* v* = v + dt (F^{v,g,ext} + F^p) / m, x* = x + dt v*; collision (eq. 9-11). */
 static void predict_positions(pcs_solver *s)
 {
     sl_fluid *f = s->f;
     const double dt = s->dt;
+    size_t i0, i1;
+    own_rows(s, &i0, &i1);
 #pragma omp parallel for schedule(dynamic, 1024)
-    for (size_t i = 0; i < f->n; i++) {
+    for (size_t i = i0; i < i1; i++) {
         double vx = f->vx[i] + dt * (f->ax[i] + f->apx[i]);
         double vy = f->vy[i] + dt * (f->ay[i] + f->apy[i]);
         double vz = f->vz[i] + dt * (f->az[i] + f->apz[i]);
@@ -577,7 +614,8 @@ static void predict_positions(pcs_solver *s)
         f->ys[i] = f->y[i] + dt * vy;
         f->zs[i] = f->z[i] + dt * vz;
     }
-    collide(s, f->xs, f->ys, f->zs, NULL, NULL, NULL);
+    collide_rows(s, i0, i1, f->xs, f->ys, f->zs, NULL, NULL, NULL);
+    if (s->split.halo) pcx_exchange_predicted(s); /* the halo's x* */
 }
 
 /* Iterating to convergence (maxIterations > minIterations), the
@@ -701,8 +739,10 @@ static void integrate(pcs_solver *s, pcs_stats *st)
     sl_fluid *f = s->f;
     const double dt = s->dt;
     double v2max = 0.0, f2max = 0.0;
+    size_t i0, i1;
+    own_rows(s, &i0, &i1);
 #pragma omp parallel for schedule(dynamic, 1024) reduction(max : f2max)
-    for (size_t i = 0; i < f->n; i++) {
+    for (size_t i = i0; i < i1; i++) {
         double ax = f->ax[i] + f->apx[i], ay = f->ay[i] + f->apy[i], az = f->az[i] + f->apz[i];
         double a2 = ax * ax + ay * ay + az * az;
         if (!(a2 <= f2max)) f2max = isnan(a2) ? HUGE_VAL : a2; /* NaN is reported, not skipped */
@@ -713,11 +753,19 @@ static void integrate(pcs_solver *s, pcs_stats *st)
         f->y[i] += dt * f->vy[i];
         f->z[i] += dt * f->vz[i];
     }
-    st->ncollide = collide(s, f->x, f->y, f->z, f->vx, f->vy, f->vz);
+    st->ncollide = collide_rows(s, i0, i1, f->x, f->y, f->z, f->vx, f->vy, f->vz);
 #pragma omp parallel for schedule(dynamic, 1024) reduction(max : v2max)
-    for (size_t i = 0; i < f->n; i++) {
+    for (size_t i = i0; i < i1; i++) {
         double v2 = f->vx[i] * f->vx[i] + f->vy[i] * f->vy[i] + f->vz[i] * f->vz[i];
         if (!(v2 <= v2max)) v2max = isnan(v2) ? HUGE_VAL : v2;
+    }
+    if (s->split.halo) { /* maxima and a count: exact in any order */
+        const double t0 = omp_get_wtime();
+        v2max = par_max_double(v2max);
+        f2max = par_max_double(f2max);
+        st->ncollide = (size_t)par_sum_long((long)st->ncollide);
+        s->time.comm += omp_get_wtime() - t0;
+        pcx_after_integrate(s); /* the state whole again on every rank */
     }
     st->vmax = sqrt(v2max);
     st->fmax = sqrt(f2max);

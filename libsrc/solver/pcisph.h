@@ -95,6 +95,12 @@ typedef struct pcs_split {
     size_t rows_min, rows_max;       /* fluid rows per rank of the last search */
     long steps;                      /* searches split */
     long empty;                      /* of them, with a rank holding no fluid row */
+    int halo;                        /* halo mode (solver/pcs_parallel.h) */
+    struct pcs_halo_x *hx;           /* its lists and buffers */
+    uint32_t *bset;                  /* halo mode: the boundary particles this rank computes */
+    size_t nbset, bset_cap;
+    size_t halo_rows, halo_max;      /* halo rows received, last search and largest */
+    double halo_sum;                 /* summed over the searches */
     double rows_min_sum, rows_max_sum; /* their sums over those searches (balance) */
 } pcs_split;
 

@@ -1,0 +1,45 @@
+/*
+ * pcs_parallel: -parallel's halo mode (doc/parallel.md, "phase 1b").
+ *
+ * The state stays whole on every rank at the start of a step (every rank
+ * sorts, searches and computes the forces of all particles), but within
+ * the step each rank computes only its own rows [row[r], row[r+1]): the
+ * prediction, the collision, the density and pressure-force passes and
+ * the integration.  What its rows read of other ranks' rows is its halo,
+ * found at each search from the lists: the fluid neighbours of its rows,
+ * and the fluid neighbours of the boundary particles its rows see (whose
+ * density and pressure it computes itself, as every rank that sees them
+ * does, with the same bits).  Per PCISPH iteration the halo's predicted
+ * positions (after the prediction) and p/rho^2 (after the density pass)
+ * are exchanged (MPI_Alltoallv), the density error's block sums are made
+ * from every rank's whole blocks and the rows of the blocks it shares
+ * (summed in the serial order), and the largest compression is reduced;
+ * after the integration the new state (x, v, p, rho and the active
+ * boundary's density and pressure) is gathered on every rank once.
+ *
+ * Used when the configuration allows it: no periodic axis (images would
+ * need the halo of their originals), no EFF_DENSITY effect (it prepares
+ * over every particle at x*), a boundary method with wall density (the
+ * methods without it measure a volume error over every row).  Otherwise,
+ * and with SLUICE_PARALLEL_EXCHANGE=gather, the replicated gathers of
+ * phase 1 (pcisph.c) are used.
+ */
+#ifndef SL_PCS_PARALLEL_H
+#define SL_PCS_PARALLEL_H
+
+#include "solver/pcisph.h"
+
+/* Whether s (ranks > 1) can run in halo mode. */
+int pcx_usable(const pcs_solver *s);
+/* After each search (split done): the halo lists, collectively. */
+void pcx_build(pcs_solver *s);
+/* After the prediction of the own rows: the halo's x*. */
+void pcx_exchange_predicted(pcs_solver *s);
+/* After the density pass of the own rows: the block sums of every rank,
+ * the halo's p/rho^2; returns the largest compression of all. */
+double pcx_after_density(pcs_solver *s, double emax);
+/* After the integration of the own rows: the state made whole. */
+void pcx_after_integrate(pcs_solver *s);
+void pcx_free(pcs_solver *s);
+
+#endif
