@@ -33,7 +33,7 @@
 #define SRF_MAX_TRI 12 /* triangles of one pattern: at most 12 crossed edges, 2 per loop */
 
 typedef struct srf_table {
-    signed char edge[12][2];               /* corners of each cube edge */
+    signed char edge[12][2]; /* corners of each cube edge */
     unsigned char ntri[256];
     signed char tri[256][3 * SRF_MAX_TRI]; /* cube edges, three per triangle */
 } srf_table;
@@ -41,7 +41,8 @@ typedef struct srf_table {
 static int edge_of(const srf_table *t, int a, int b)
 {
     for (int e = 0; e < 12; e++)
-        if ((t->edge[e][0] == a && t->edge[e][1] == b) || (t->edge[e][0] == b && t->edge[e][1] == a))
+        if ((t->edge[e][0] == a && t->edge[e][1] == b) ||
+            (t->edge[e][0] == b && t->edge[e][1] == a))
             return e;
     return -1;
 }
@@ -151,8 +152,8 @@ static int pattern(const srf_scan *s, size_t at)
 {
     int pat = 0;
     for (int c = 0; c < 8; c++) {
-        size_t p = at + (size_t)(c & 1) + (size_t)(c >> 1 & 1) * s->nx +
-                   (size_t)(c >> 2 & 1) * s->nxy;
+        size_t p =
+            at + (size_t)(c & 1) + (size_t)(c >> 1 & 1) * s->nx + (size_t)(c >> 2 & 1) * s->nxy;
         pat |= above(s, p) << c;
     }
     return pat;
@@ -265,7 +266,9 @@ void srf_contour(const srf_grid *g, double iso, srf_mesh *m)
                         const size_t ci = i + (size_t)(c0 & 1), cj = j + (size_t)(c0 >> 1 & 1);
                         const size_t at = cj * s.nx + ci;
                         const int up = c0 >> 2 & 1;
-                        *tri++ = d == 2 ? iz[at] : d == 0 ? (up ? ix1 : ix0)[at] : (up ? iy1 : iy0)[at];
+                        *tri++ = d == 2 ? iz[at]
+                            : d == 0    ? (up ? ix1 : ix0)[at]
+                                        : (up ? iy1 : iy0)[at];
                     }
                 }
         }

@@ -11,11 +11,12 @@
 #include <string.h>
 
 /* Grid points beyond which srf_reconstruct refuses (4 bytes each). */
-#define SRF_MAX_POINTS ((size_t)1 << 31)
+#define SRF_MAX_POINTS    ((size_t)1 << 31)
 #define SRF_MAX_SMOOTHING 20
 
-const char *const srf_keys[] = {"gridSpacing", "isoValue",      "kernelRadius",
-                                "smoothing",   "dropletRadius", NULL};
+const char *const srf_keys[] = {"gridSpacing",   "isoValue", "kernelRadius",     "smoothing",
+                                "dropletRadius", "kernel",   "anisotropyRadius", "maxStretch",
+                                "minNeighbours", NULL};
 
 void srf_params_default(srf_params *p)
 {
@@ -24,6 +25,10 @@ void srf_params_default(srf_params *p)
     p->kernel_radius = 2.0;
     p->smoothing = 0;
     p->droplet_radius = 0.5;
+    p->anisotropic = 0;
+    p->anisotropy_radius = 2.0;
+    p->max_stretch = 4.0;
+    p->min_neighbours = 25;
 }
 
 void srf_params_read(const dict *d, srf_params *p)
@@ -54,6 +59,26 @@ void srf_params_read(const dict *d, srf_params *p)
         dict_fatal(d, "smoothing", "%ld must be between 0 and %d (filter passes)", sm,
                    SRF_MAX_SMOOTHING);
     p->smoothing = (int)sm;
+    const char *kern;
+    dict_need(
+        dict_get_word_or(d, "kernel", p->anisotropic ? "anisotropic" : "isotropic", &kern, &err),
+        &err);
+    if (strcmp(kern, "isotropic") && strcmp(kern, "anisotropic"))
+        dict_fatal(d, "kernel", "'%s' is not one of: isotropic anisotropic", kern);
+    p->anisotropic = !strcmp(kern, "anisotropic");
+    dict_need(dict_get_scalar_or(d, "anisotropyRadius", p->anisotropy_radius, &p->anisotropy_radius,
+                                 &err),
+              &err);
+    dict_need(dict_get_scalar_or(d, "maxStretch", p->max_stretch, &p->max_stretch, &err), &err);
+    dict_need(dict_get_int_or(d, "minNeighbours", p->min_neighbours, &p->min_neighbours, &err),
+              &err);
+    if (p->anisotropy_radius < 1 || p->anisotropy_radius > 3)
+        dict_fatal(d, "anisotropyRadius", "%g must be between 1 and 3 (times the kernel radius)",
+                   p->anisotropy_radius);
+    if (p->max_stretch < 1 || p->max_stretch > 16)
+        dict_fatal(d, "maxStretch", "%g must be between 1 and 16", p->max_stretch);
+    if (p->min_neighbours < 3 || p->min_neighbours > 1000)
+        dict_fatal(d, "minNeighbours", "%ld must be between 3 and 1000", p->min_neighbours);
     if (p->droplet_radius < 0 || 2 * p->droplet_radius > p->kernel_radius)
         dict_fatal(d, "dropletRadius", "%g must be between 0 and kernelRadius / 2 = %g",
                    p->droplet_radius, p->kernel_radius / 2);
@@ -88,7 +113,8 @@ int srf_reconstruct(const srf_particles *in, const srf_params *prm, srf_mesh *m,
     }
     /* a margin of h plus the smoothing's reach plus two cells: the field
      * is zero on the grid's faces, so the surface is closed inside it */
-    const double margin = h + (prm->smoothing + 2) * dx;
+    const double reach = prm->anisotropic ? h * cbrt(prm->max_stretch * prm->max_stretch) : h;
+    const double margin = reach + (prm->smoothing + 2) * dx;
     double total = 1;
     g.dx = dx;
     for (int d = 0; d < 3; d++) {
@@ -106,12 +132,7 @@ int srf_reconstruct(const srf_particles *in, const srf_params *prm, srf_mesh *m,
         return 1;
     }
     g.f = sl_malloc(npts * sizeof *g.f, "surface grid");
-    /* a ball narrower than the grid step might hold no grid point (a grid
-     * point lies within sqrt(3)/2 dx of any particle) */
-    double ball = prm->droplet_radius * in->r0;
-    if (ball > 0 && ball < dx) ball = dx;
-    if (2 * ball > h) ball = h / 2; /* the scatter's reach */
-    srf_colour_field(in, h, ball, prm->iso_value, &g);
+    srf_colour_field(in, prm, &g);
     srf_smooth(&g, prm->smoothing);
     srf_contour(&g, prm->iso_value, m);
     free(g.f);

@@ -10,6 +10,8 @@
  *      by particle; each thread owns a block of grid planes, so every grid
  *      value is summed in the same particle order by one thread: the same
  *      field for any thread count.
+ *      With kernel anisotropic, each particle's kernel is stretched along
+ *      the principal axes of its neighbours (Yu & Turk 2013; srf_field.c).
  *      A particle where the sampled field (trilinear between the grid
  *      points) is not above iso -- a lone drop, a jet one particle thin, a
  *      pair whose narrow peak falls between grid points -- would lie
@@ -37,7 +39,7 @@
  * Why written here rather than taken from VTK (vtkSPHInterpolator,
  * vtkFlyingEdges3D): the solver and its utilities build without VTK (it is
  * only a test and post-processing dependency through python3-vtk9), and
- * the two passes above are ~400 lines with no dependency.
+ * this library is ~1100 lines of C with no dependency.
  *
  * The library knows nothing of case folders: it takes positions and
  * fields, r0 and the parameters; system/surfaceDict is read by
@@ -53,11 +55,15 @@
 #include "dictionary/dict.h"
 
 typedef struct srf_params {
-    double grid_spacing; /* gridSpacing: grid step in units of r0 (0.5) */
-    double iso_value;    /* isoValue: the colour level of the surface (0.5) */
-    double kernel_radius;/* kernelRadius: the support h in units of r0 (2, the solver's) */
-    int smoothing;       /* smoothing: passes of the [1 2 1]/4 filter (0) */
+    double grid_spacing;   /* gridSpacing: grid step in units of r0 (0.5) */
+    double iso_value;      /* isoValue: the colour level of the surface (0.5) */
+    double kernel_radius;  /* kernelRadius: the support h in units of r0 (2, the solver's) */
+    int smoothing;         /* smoothing: passes of the [1 2 1]/4 filter (0) */
     double droplet_radius; /* dropletRadius: a lone particle's ball, units of r0 (0.5; 0: none) */
+    int anisotropic;       /* kernel: isotropic (0) or anisotropic (1, Yu & Turk 2013) */
+    double anisotropy_radius; /* anisotropyRadius: the covariance's neighbourhood, units of h (2) */
+    double max_stretch;       /* maxStretch: largest ratio of the variances, k_r (4) */
+    long min_neighbours;      /* minNeighbours: fewer: isotropic, N_eps (25) */
 } srf_params;
 
 /* The particles of one time: n positions and (optional, NULL) fields. */
@@ -73,7 +79,7 @@ typedef struct srf_particles {
 typedef struct srf_mesh {
     size_t nv, nt;
     double *x, *y, *z;
-    double *vx, *vy, *vz, *p;  /* interpolated; NULL when the input had none */
+    double *vx, *vy, *vz, *p; /* interpolated; NULL when the input had none */
     int64_t *tri;
     /* the grid it came from, for reports */
     int nc[3];
@@ -113,9 +119,9 @@ typedef struct srf_grid {
 } srf_grid;
 
 /* Colour field of the particles on g (g->lo, dx, nc set; f allocated),
- * raised to the balls of radius ball (0: none; 2 ball <= h) of the
+ * with isotropic or anisotropic kernels, raised to the droplet balls of the
  * particles where it is not above iso. */
-void srf_colour_field(const srf_particles *in, double h, double ball, double iso, srf_grid *g);
+void srf_colour_field(const srf_particles *in, const srf_params *prm, srf_grid *g);
 /* passes of the [1 2 1]/4 filter along x, y and z. */
 void srf_smooth(srf_grid *g, int passes);
 /* Marching cubes of g at level iso into m (vertices and triangles only). */
