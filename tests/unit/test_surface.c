@@ -416,6 +416,11 @@ static void test_dam_break_surfaces(void **state)
                          bin_dir()),
                      0);
     assert_int_equal(run("test -f " DAM "/surface.pvd && test -f " DAM "/surface.vtp.series"), 0);
+    /* the measurements table: a header, then one row per time in time order */
+    assert_int_equal(run("grep -v '^#' " DAM "/postProcessing/surface/0/surface.dat | cut -f1 | "
+                         "tr '\\n' ' '"),
+                     0);
+    assert_string_equal(output, "0 0.05 0.1 0.15 0.2 0.25 0.3 ");
     const double r0 = 0.03;
     const char *times[] = {"0", "0.05", "0.1", "0.15", "0.2", "0.25", "0.3"};
     for (size_t i = 0; i < sizeof times / sizeof *times; i++) {

@@ -12,7 +12,9 @@
  * surface.vtp (so that -latestTime after a full run keeps the whole
  * series).  Options come from system/surfaceDict (optional; annotated
  * defaults in etc/caseDicts/surfaceDict).  Each time's line gives the
- * surface's area and enclosed volume beside the fluid's N r0^3.
+ * surface's area and enclosed volume beside the fluid's N r0^3; the same
+ * numbers go to postProcessing/surface/<firstTime>/surface.dat, one row per
+ * time in time order, as the function objects' tables.
  *
  * Threads (numberOfThreads of system/controlDict, 0: all cores) work inside
  * one time; with -parallel they take one time each instead, which is faster
@@ -24,6 +26,8 @@
 #include "core/sl_mem.h"
 #include "core/sl_progress.h"
 #include "core/sl_threads.h"
+#include "io/atomic_file.h"
+#include "io/time_dir.h"
 #include "io/vtk_collection.h"
 #include "io/vtk_reader.h"
 #include "io/vtk_writer.h"
@@ -127,6 +131,32 @@ static frame_stats one_time(const sl_case *c, const srf_params *prm, const char 
     return st;
 }
 
+/* postProcessing/surface/<first>/surface.dat: one row per time. */
+static void write_table(const sl_case *c, const tdir_list *times, const frame_stats *st)
+{
+    const double v0 = c->prm.r0 * c->prm.r0 * c->prm.r0;
+    char *dir = path_of(c->dir, "postProcessing/surface", times->name[0]);
+    char *path = path_of(dir, "surface.dat", "");
+    sl_err err;
+    afile af;
+    if (tdir_mkdirs(dir, &err)) sl_fatal("%s", err.msg);
+    FILE *f = afile_open(&af, path, &err);
+    if (!f) sl_fatal("%s", err.msg);
+    fprintf(f, "# Free-surface measurements (Sluice reconstructSurface), one row per time\n"
+               "# area: of the reconstructed surface (m^2); volume: the volume it encloses (m^3)\n"
+               "# fluidVolume: particles times r0^3 (m^3); volumeRatio = volume / fluidVolume\n"
+               "# Time\tparticles\ttriangles\tarea\tvolume\tfluidVolume\tvolumeRatio\n");
+    for (size_t i = 0; i < times->n; i++) {
+        const double fv = (double)st[i].n * v0;
+        fprintf(f, "%s\t%zu\t%zu\t%.10g\t%.10g\t%.10g\t%.10g\n", times->name[i], st[i].n,
+                st[i].nt, st[i].area, st[i].volume, fv, fv > 0 ? st[i].volume / fv : 0.0);
+    }
+    if (afile_commit(&af, &err)) sl_fatal("%s", err.msg);
+    sl_info("Measurements: %s", path);
+    free(path);
+    free(dir);
+}
+
 /* surface.pvd and surface.vtp.series: every time with a surface.vtp. */
 static void write_collection(const char *dir)
 {
@@ -188,9 +218,11 @@ int main(int argc, char **argv)
     sl_progress_start(&prog, stdout, 0, (double)times.n, 10);
     double t0 = omp_get_wtime(), c0 = cpu_seconds(), particle_sum = 0;
     size_t done = 0;
+    frame_stats *all = sl_calloc(times.n, sizeof *all, "surface statistics");
 #pragma omp parallel for schedule(dynamic, 1) if (par)
     for (size_t i = 0; i < times.n; i++) {
         frame_stats st = one_time(&c, &prm, times.name[i], times.time[i]);
+        all[i] = st;
         const double fluid = (double)st.n * c.prm.r0 * c.prm.r0 * c.prm.r0;
 #pragma omp critical
         {
@@ -208,6 +240,8 @@ int main(int argc, char **argv)
     sl_progress_end(&prog);
     const double wall = omp_get_wtime() - t0, cpu = cpu_seconds() - c0;
     write_collection(c.dir);
+    write_table(&c, &times, all);
+    free(all);
     const double mega = particle_sum / 1e6;
     sl_info("reconstructSurface: %zu time%s in %.2f s wall, %.2f CPU s (%s, %d thread%s): "
             "%.3f s wall and %.3f CPU s per frame; per frame per million particles %.3g s wall, "
