@@ -148,6 +148,32 @@ static void boundary_density(const pcs_solver *s)
 
 /* ---- -parallel: what a pass computed on each rank, made whole ---- */
 
+/* Particles that changed rank since the last search (the rows move
+ * with the fluid: a dam break carries them from rank to rank). */
+static void count_moves(pcs_split *sp, const sl_fluid *f)
+{
+    uint32_t idmax = 0;
+    for (size_t i = 0; i < f->n; i++) idmax = f->id[i] > idmax ? f->id[i] : idmax;
+    if (sp->owner_cap < (size_t)idmax + 1) {
+        size_t cap = sp->owner_cap ? sp->owner_cap : 1024;
+        while (cap < (size_t)idmax + 1) cap *= 2;
+        int32_t *o = sl_malloc(cap * sizeof *o, "particle ranks");
+        for (size_t k = 0; k < cap; k++) o[k] = k < sp->owner_cap ? sp->owner[k] : -1;
+        free(sp->owner);
+        sp->owner = o;
+        sp->owner_cap = cap;
+    }
+    for (int r = 0; r < sp->size; r++)
+        for (size_t i = sp->row[r]; i < sp->row[r + 1]; i++) {
+            int32_t *o = &sp->owner[f->id[i]];
+            if (*o >= 0 && *o != r) {
+                if (r > *o) sp->moved_up++;
+                else sp->moved_down++;
+            }
+            *o = r;
+        }
+}
+
 /* Rows and active boundary particles of each rank for this search: the
  * fluid rows by count, the active boundary particles by count. */
 static void split_rows(pcs_solver *s)
@@ -165,6 +191,7 @@ static void split_rows(pcs_solver *s)
         sp->rows_min = k < sp->rows_min ? k : sp->rows_min;
         sp->rows_max = k > sp->rows_max ? k : sp->rows_max;
     }
+    if (p > 1) count_moves(sp, s->f);
     sp->steps++;
     sp->empty += sp->rows_min == 0;
     sp->rows_min_sum += (double)sp->rows_min;
@@ -483,6 +510,7 @@ void pcs_free(pcs_solver *s)
     free(s->dens);
     dom_halo_free(&s->halo);
     pcx_free(s);
+    free(s->split.owner);
     free(s->split.row);
     free(s->split.act);
     sl_free_aligned(s->split.bbuf);

@@ -101,6 +101,9 @@ typedef struct pcs_split {
     size_t nbset, bset_cap;
     size_t halo_rows, halo_max;      /* halo rows received, last search and largest */
     double halo_sum;                 /* summed over the searches */
+    int32_t *owner;                  /* rank of particle id at the last search (-1: none) */
+    size_t owner_cap;
+    long moved_up, moved_down;       /* particles whose rank rose / fell between searches */
     double rows_min_sum, rows_max_sum; /* their sums over those searches (balance) */
 } pcs_split;
 

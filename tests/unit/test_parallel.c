@@ -4,7 +4,8 @@
  * without its wall-time column), for np 1, 2 and 3 (oversubscribed on a
  * 2-core machine) on a dam break, a rocking tank (moving boundary) and a
  * filling (emitter); restart files written by 2 ranks continued on 3 give
- * the uninterrupted serial run; the filling's first steps leave ranks
+ * the uninterrupted serial run; the filling's particles change rank both
+ * ways, and its first steps leave ranks
  * without fluid rows; a periodic channel on 3 ranks gives the serial
  * files; 2 ranks x 2 threads the same; the halo mode (the default where
  * it applies) and the gather mode both (pcs_parallel.h).  Without MPI in the build (make
@@ -174,6 +175,10 @@ static void test_emitter(void **state)
     /* "... 12 of 40 searches left a rank without fluid" with 12 > 0 */
     assert_int_equal(system("grep -q ' [1-9][0-9]* of [0-9]* searches left a rank without fluid' "
                             "tests/output/parFill3/log.pcisph"),
+                     0);
+    /* the jet lands and spreads: particles change rank both ways */
+    assert_int_equal(system("grep -Eq 'changed rank between searches: [1-9][0-9]* to a higher "
+                            "rank, [1-9][0-9]* to a lower' tests/output/parFill3/log.pcisph"),
                      0);
 }
 

@@ -591,6 +591,10 @@ static void summary_parallel(const run *r, double wall)
             "searches %.0f / %.0f; %ld of %ld searches left a rank without fluid)", sp->size,
             omp_get_max_threads(), sp->rows_min, sp->rows_max, sp->rows_min_sum / searches,
             sp->rows_max_sum / searches, sp->empty, sp->steps);
+    if (sp->size > 1)
+        sl_info("  parallel: particles that changed rank between searches: %ld to a higher rank, "
+                "%ld to a lower one (%.1f per search)", sp->moved_up, sp->moved_down,
+                (double)(sp->moved_up + sp->moved_down) / searches);
     if (sp->size == 1)
         sl_info("  parallel: one rank, nothing exchanged");
     else if (sp->halo)
