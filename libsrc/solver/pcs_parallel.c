@@ -28,8 +28,7 @@ int pcx_usable(const pcs_solver *s)
 {
     const char *e = getenv("SLUICE_PARALLEL_EXCHANGE");
     if (e && !strcmp(e, "gather")) return 0;
-    return s->split.size > 1 && !s->prm.periodic.axes && s->ndens == 0 &&
-        s->prm.method->wall_density;
+    return s->split.size > 1 && s->ndens == 0 && s->prm.method->wall_density;
 }
 
 static void *grow(void *p, size_t *cap, size_t need, size_t elem, const char *what)
@@ -76,6 +75,21 @@ static int as_int(size_t v)
     return (int)v;
 }
 
+/* Boundary particle j into this rank's set; a periodic image brings its
+ * original (the image's values are refreshed from it, dom_periodic.h). */
+static void add_boundary(pcs_solver *s, struct pcs_halo_x *h, uint32_t st, uint32_t j, size_t *nbs)
+{
+    const dom_halo *hl = &s->halo;
+    for (int k = 0; k < 2; k++) {
+        if (h->bmark[j] == st) return;
+        h->bmark[j] = st;
+        s->split.bset[(*nbs)++] = j;
+        const uint32_t id = s->b->id[j];
+        if (!hl->nb_img || id < hl->nb_real) return;
+        j = hl->bpos[hl->bsrc[id - hl->nb_real]];
+    }
+}
+
 void pcx_build(pcs_solver *s)
 {
     pcs_split *sp = &s->split;
@@ -97,29 +111,25 @@ void pcx_build(pcs_solver *s)
     size_t nbs = 0;
     const uint32_t *fbs = s->fb.start, *fbi = s->fb.idx;
     for (size_t i = lo; i < hi; i++)
-        for (uint32_t q = fbs[i]; q < fbs[i + 1]; q++) {
-            const uint32_t j = fbi[q];
-            if (h->bmark[j] != st) {
-                h->bmark[j] = st;
-                sp->bset[nbs++] = j;
-            }
-        }
-    for (size_t q = sp->act[me]; q < sp->act[me + 1]; q++) {
-        const uint32_t j = s->active[q];
-        if (h->bmark[j] != st) {
-            h->bmark[j] = st;
-            sp->bset[nbs++] = j;
-        }
-    }
+        for (uint32_t q = fbs[i]; q < fbs[i + 1]; q++) add_boundary(s, h, st, fbi[q], &nbs);
+    for (size_t q = sp->act[me]; q < sp->act[me + 1]; q++)
+        add_boundary(s, h, st, s->active[q], &nbs);
     sp->nbset = nbs;
     /* the fluid rows of other ranks read: by the own rows, and by those
      * boundary particles */
     const uint32_t *ffs = s->ff.start, *ffi = s->ff.idx, *bfs = s->bf.start, *bfi = s->bf.idx;
+    const uint32_t *src = s->halo.src; /* periodic: the original of fluid image j - n */
     for (size_t i = lo; i < hi; i++)
-        for (uint32_t q = ffs[i]; q < ffs[i + 1]; q++) h->fmark[ffi[q]] = st;
+        for (uint32_t q = ffs[i]; q < ffs[i + 1]; q++) {
+            const uint32_t j = ffi[q];
+            h->fmark[j < n ? j : src[j - n]] = st;
+        }
     for (size_t k = 0; k < nbs; k++) {
         const uint32_t j = sp->bset[k];
-        for (uint32_t q = bfs[j]; q < bfs[j + 1]; q++) h->fmark[bfi[q]] = st;
+        for (uint32_t q = bfs[j]; q < bfs[j + 1]; q++) {
+            const uint32_t i = bfi[q];
+            h->fmark[i < n ? i : src[i - n]] = st;
+        }
     }
     h->recv_idx = grow(h->recv_idx, &h->recv_cap, n + 1, sizeof *h->recv_idx, "halo rows");
     size_t nr = 0;

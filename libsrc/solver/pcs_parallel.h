@@ -17,10 +17,12 @@
  * after the integration the new state (x, v, p, rho and the active
  * boundary's density and pressure) is gathered on every rank once.
  *
- * Used when the configuration allows it: no periodic axis (images would
- * need the halo of their originals), no EFF_DENSITY effect (it prepares
- * over every particle at x*), a boundary method with wall density (the
- * methods without it measure a volume error over every row).  Otherwise,
+ * Periodic images are refreshed from their originals as in the serial
+ * code (dom_periodic.h): an image in a rank's lists brings its original
+ * into the halo, a boundary image its original into the boundary set.
+ * Used when the configuration allows it: no EFF_DENSITY effect (it
+ * prepares over every particle at x*), a boundary method with wall density
+ * (the methods without it measure a volume error over every row).  Otherwise,
  * and with SLUICE_PARALLEL_EXCHANGE=gather, the replicated gathers of
  * phase 1 (pcisph.c) are used.
  */

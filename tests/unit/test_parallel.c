@@ -41,7 +41,7 @@ static int mpi_here(void)
  * own allocations are still held at exit and LeakSanitizer would fail every
  * rank, so leak checking is off for the ranks (serial runs keep it); ASan's
  * other checks stay on. */
-#define MPIRUN                                                                      \
+#define MPIRUN                                                                               \
     "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" mpirun -x ASAN_OPTIONS " \
     "--oversubscribe --bind-to none "
 
@@ -50,8 +50,7 @@ static int mpi_here(void)
 static int run_np(const char *src, const char *name, const char *edit, int np)
 {
     char cmd[4096], launch[256] = "";
-    if (np > 0)
-        snprintf(launch, sizeof launch, MPIRUN "-np %d ", np);
+    if (np > 0) snprintf(launch, sizeof launch, MPIRUN "-np %d ", np);
     snprintf(cmd, sizeof cmd,
              "rm -rf tests/output/%s && mkdir -p tests/output && cp -r %s tests/output/%s && "
              "(cd tests/output/%s && %s) && %s%s/pcisph -case tests/output/%s -quiet %s "
@@ -195,8 +194,8 @@ static void test_restart_2_then_3(void **state)
     char cmd[1024];
     snprintf(cmd, sizeof cmd,
              "cd tests/output/parRestart && sed -i 's/^endTime .*/endTime 0.04;/; "
-             "s/^startFrom .*/startFrom latestTime;/' system/controlDict && "
-             MPIRUN "-np 3 %s/pcisph -case . -quiet -parallel "
+             "s/^startFrom .*/startFrom latestTime;/' system/controlDict && " MPIRUN
+             "-np 3 %s/pcisph -case . -quiet -parallel "
              "> log.restart 2>&1 && grep -q 'Restarting from' log.restart",
              bin_dir());
     assert_int_equal(system(cmd), 0);
@@ -208,7 +207,8 @@ static void test_restart_2_then_3(void **state)
                      0);
 }
 
-/* A periodic channel on 3 ranks: the serial files. */
+/* A periodic channel on 3 ranks in both modes, a box periodic along all
+ * three axes on 2: the serial files. */
 static void test_periodic(void **state)
 {
     (void)state;
@@ -217,6 +217,17 @@ static void test_periodic(void **state)
     assert_int_equal(run_np("tests/cases/periodicChannel", "parPeriodicSerial", edit, 0), 0);
     assert_int_equal(run_np("tests/cases/periodicChannel", "parPeriodic3", edit, 3), 0);
     same_output("parPeriodicSerial", "parPeriodic3");
+    assert_int_equal(system("grep -q 'parallel: halo mode' tests/output/parPeriodic3/log.pcisph"),
+                     0);
+    setenv("SLUICE_PARALLEL_EXCHANGE", "gather", 1);
+    int rc = run_np("tests/cases/periodicChannel", "parPeriodicGather3", edit, 3);
+    unsetenv("SLUICE_PARALLEL_EXCHANGE");
+    assert_int_equal(rc, 0);
+    same_output("parPeriodicSerial", "parPeriodicGather3");
+    /* periodic along x, y and z: images of images at the corners */
+    assert_int_equal(run_np("tests/cases/periodicBox", "parBoxSerial", edit, 0), 0);
+    assert_int_equal(run_np("tests/cases/periodicBox", "parBox2", edit, 2), 0);
+    same_output("parBoxSerial", "parBox2");
 }
 
 /* mpirun without -parallel would run the case N times over itself: refused. */
