@@ -219,6 +219,27 @@ static void test_verify_case_refusals(void **state)
     assert_non_null(strstr(output, "above the tolerance"));
 }
 
+/* A fluid region's velocityField: a misspelt type and a bad length stop the
+ * solver with the file, line and keyword before anything is written. */
+static void test_velocity_field_refusals(void **state)
+{
+    (void)state;
+    const char *b = bin_dir();
+    const char *c = OUT "/badField";
+    assert_int_equal(run("rm -rf %s && %s/cloneCase " CASES "/taylorGreen/base %s && sed -i "
+                         "'s/type taylorGreen;/type taylorGren;/' %s/constant/fluidProperties",
+                         c, b, c, c), 0);
+    assert_int_not_equal(run("%s/pcisph -case %s", b, c), 0);
+    assert_non_null(strstr(output, "fluidProperties:"));
+    assert_non_null(strstr(output, "'taylorGren' is not one of: taylorGreen standingWave"));
+    assert_int_equal(run("sed -i 's/type taylorGren; amplitude 0.1; length 0.1;/type "
+                         "taylorGreen; amplitude 0.1; length -1;/' %s/constant/fluidProperties",
+                         c), 0);
+    assert_int_not_equal(run("%s/pcisph -case %s", b, c), 0);
+    assert_non_null(strstr(output, "keyword 'length': must be a positive number"));
+    assert_int_not_equal(run("test -e %s/0", c), 0); /* nothing written */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -230,6 +251,7 @@ int main(void)
         cmocka_unit_test(test_taylor_green_start),
         cmocka_unit_test(test_spheric_front_threshold),
         cmocka_unit_test(test_verify_case_refusals),
+        cmocka_unit_test(test_velocity_field_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
