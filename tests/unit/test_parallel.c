@@ -143,6 +143,29 @@ static void test_gather_mode_and_becker(void **state)
     same_output("parBeckerSerial", "parBecker3");
 }
 
+/* Effects with a halo of their own: the surface density correction reads
+ * the neighbours' density of the previous pass (EFF_DENSITY), surface
+ * tension every particle's neighbours (EFF_FORCES, all rows). */
+static void test_density_and_tension_effects(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    char edit[2048];
+    snprintf(edit, sizeof edit,
+             "%s && printf 'surfaceDensityCorrection { }\\n' >> constant/fluidProperties", dam);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parBKSerial", edit, 0), 0);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parBK3", edit, 3), 0);
+    same_output("parBKSerial", "parBK3");
+    assert_int_equal(system("grep -q 'parallel: halo mode' tests/output/parBK3/log.pcisph"), 0);
+    const char *drop = "sed -i 's/^endTime .*/endTime 0.02;/; s/^writeInterval .*/writeInterval "
+                       "0.01;/' system/controlDict && (grep -q '^numberOfThreads' "
+                       "system/controlDict && sed -i 's/^numberOfThreads .*/numberOfThreads 1;/' "
+                       "system/controlDict || echo 'numberOfThreads 1;' >> system/controlDict)";
+    assert_int_equal(run_np("tutorials/droplet", "parDropSerial", drop, 0), 0);
+    assert_int_equal(run_np("tutorials/droplet", "parDrop2", drop, 2), 0);
+    same_output("parDropSerial", "parDrop2");
+}
+
 /* The rocking tank: the moving walls are placed by every rank alike. */
 static void test_moving_boundary(void **state)
 {
@@ -279,6 +302,7 @@ int main(void)
         cmocka_unit_test(test_dam_break_np123),
         cmocka_unit_test(test_ranks_times_threads),
         cmocka_unit_test(test_gather_mode_and_becker),
+        cmocka_unit_test(test_density_and_tension_effects),
         cmocka_unit_test(test_moving_boundary),
         cmocka_unit_test(test_emitter),
         cmocka_unit_test(test_restart_2_then_3),
