@@ -16,7 +16,8 @@ struct pcs_halo_x {
     size_t fmark_cap, bmark_cap;
     uint32_t *recv_idx, *send_idx; /* halo rows received (by owner), own rows sent (by rank) */
     size_t nrecv, nsend, recv_cap, send_cap;
-    int *rcnt, *rdis, *scnt, *sdis, *rcnt3, *rdis3, *scnt3, *sdis3; /* per rank */
+    int *rcnt, *rdis, *scnt, *sdis;                                     /* per rank: rows */
+    int *rcnt2, *rdis2, *scnt2, *sdis2, *rcnt3, *rdis3, *scnt3, *sdis3; /* 2 and 3 per row */
     double *sbuf, *rbuf;
     size_t sbuf_cap, rbuf_cap;
     double *pbuf, *pall; /* block sums: this rank's pieces, everyone's */
@@ -28,8 +29,7 @@ int pcx_usable(const pcs_solver *s)
 {
     const char *e = getenv("SLUICE_PARALLEL_EXCHANGE");
     if (e && !strcmp(e, "gather")) return 0;
-    return s->split.size > 1 && !s->prm.periodic.axes && s->ndens == 0 &&
-        s->prm.method->wall_density;
+    return s->split.size > 1 && s->prm.method->wall_density;
 }
 
 static void *grow(void *p, size_t *cap, size_t need, size_t elem, const char *what)
@@ -51,6 +51,7 @@ static struct pcs_halo_x *state(pcs_solver *s)
         struct pcs_halo_x *h = sl_malloc(sizeof *h, "halo lists");
         memset(h, 0, sizeof *h);
         h->rcnt = ints(p), h->rdis = ints(p), h->scnt = ints(p), h->sdis = ints(p);
+        h->rcnt2 = ints(p), h->rdis2 = ints(p), h->scnt2 = ints(p), h->sdis2 = ints(p);
         h->rcnt3 = ints(p), h->rdis3 = ints(p), h->scnt3 = ints(p), h->sdis3 = ints(p);
         h->pcnt = ints(p), h->pdis = ints(p);
         s->split.hx = h;
@@ -76,6 +77,21 @@ static int as_int(size_t v)
     return (int)v;
 }
 
+/* Boundary particle j into this rank's set; a periodic image brings its
+ * original (the image's values are refreshed from it, dom_periodic.h). */
+static void add_boundary(pcs_solver *s, struct pcs_halo_x *h, uint32_t st, uint32_t j, size_t *nbs)
+{
+    const dom_halo *hl = &s->halo;
+    for (int k = 0; k < 2; k++) {
+        if (h->bmark[j] == st) return;
+        h->bmark[j] = st;
+        s->split.bset[(*nbs)++] = j;
+        const uint32_t id = s->b->id[j];
+        if (!hl->nb_img || id < hl->nb_real) return;
+        j = hl->bpos[hl->bsrc[id - hl->nb_real]];
+    }
+}
+
 void pcx_build(pcs_solver *s)
 {
     pcs_split *sp = &s->split;
@@ -97,29 +113,25 @@ void pcx_build(pcs_solver *s)
     size_t nbs = 0;
     const uint32_t *fbs = s->fb.start, *fbi = s->fb.idx;
     for (size_t i = lo; i < hi; i++)
-        for (uint32_t q = fbs[i]; q < fbs[i + 1]; q++) {
-            const uint32_t j = fbi[q];
-            if (h->bmark[j] != st) {
-                h->bmark[j] = st;
-                sp->bset[nbs++] = j;
-            }
-        }
-    for (size_t q = sp->act[me]; q < sp->act[me + 1]; q++) {
-        const uint32_t j = s->active[q];
-        if (h->bmark[j] != st) {
-            h->bmark[j] = st;
-            sp->bset[nbs++] = j;
-        }
-    }
+        for (uint32_t q = fbs[i]; q < fbs[i + 1]; q++) add_boundary(s, h, st, fbi[q], &nbs);
+    for (size_t q = sp->act[me]; q < sp->act[me + 1]; q++)
+        add_boundary(s, h, st, s->active[q], &nbs);
     sp->nbset = nbs;
     /* the fluid rows of other ranks read: by the own rows, and by those
      * boundary particles */
     const uint32_t *ffs = s->ff.start, *ffi = s->ff.idx, *bfs = s->bf.start, *bfi = s->bf.idx;
+    const uint32_t *src = s->halo.src; /* periodic: the original of fluid image j - n */
     for (size_t i = lo; i < hi; i++)
-        for (uint32_t q = ffs[i]; q < ffs[i + 1]; q++) h->fmark[ffi[q]] = st;
+        for (uint32_t q = ffs[i]; q < ffs[i + 1]; q++) {
+            const uint32_t j = ffi[q];
+            h->fmark[j < n ? j : src[j - n]] = st;
+        }
     for (size_t k = 0; k < nbs; k++) {
         const uint32_t j = sp->bset[k];
-        for (uint32_t q = bfs[j]; q < bfs[j + 1]; q++) h->fmark[bfi[q]] = st;
+        for (uint32_t q = bfs[j]; q < bfs[j + 1]; q++) {
+            const uint32_t i = bfi[q];
+            h->fmark[i < n ? i : src[i - n]] = st;
+        }
     }
     h->recv_idx = grow(h->recv_idx, &h->recv_cap, n + 1, sizeof *h->recv_idx, "halo rows");
     size_t nr = 0;
@@ -141,6 +153,8 @@ void pcx_build(pcs_solver *s)
     h->send_idx = grow(h->send_idx, &h->send_cap, ns + 1, sizeof *h->send_idx, "halo rows");
     par_alltoallv_u32(h->recv_idx, h->rcnt, h->rdis, h->send_idx, h->scnt, h->sdis);
     for (int r = 0; r < p; r++) {
+        h->rcnt2[r] = 2 * h->rcnt[r], h->rdis2[r] = 2 * h->rdis[r];
+        h->scnt2[r] = 2 * h->scnt[r], h->sdis2[r] = 2 * h->sdis[r];
         h->rcnt3[r] = 3 * h->rcnt[r], h->rdis3[r] = 3 * h->rdis[r];
         h->scnt3[r] = 3 * h->scnt[r], h->sdis3[r] = 3 * h->sdis[r];
     }
@@ -237,11 +251,18 @@ double pcx_after_density(pcs_solver *s, double emax)
             part[blk] = run;
         }
     }
-    /* the halo's p/rho^2, which the pressure force reads */
+    /* the halo's p/rho^2, which the pressure force reads, and its density,
+     * which the next density pass's EFF_DENSITY effects read */
     sl_fluid *f = s->f;
-    for (size_t q = 0; q < h->nsend; q++) h->sbuf[q] = f->pt[h->send_idx[q]];
-    par_alltoallv_double(h->sbuf, h->scnt, h->sdis, h->rbuf, h->rcnt, h->rdis);
-    for (size_t q = 0; q < h->nrecv; q++) f->pt[h->recv_idx[q]] = h->rbuf[q];
+    for (size_t q = 0; q < h->nsend; q++) {
+        h->sbuf[2 * q] = f->pt[h->send_idx[q]];
+        h->sbuf[2 * q + 1] = f->rho[h->send_idx[q]];
+    }
+    par_alltoallv_double(h->sbuf, h->scnt2, h->sdis2, h->rbuf, h->rcnt2, h->rdis2);
+    for (size_t q = 0; q < h->nrecv; q++) {
+        f->pt[h->recv_idx[q]] = h->rbuf[2 * q];
+        f->rho[h->recv_idx[q]] = h->rbuf[2 * q + 1];
+    }
     emax = par_max_double(emax);
     s->time.comm += omp_get_wtime() - t0;
     return emax;
@@ -290,6 +311,7 @@ void pcx_free(pcs_solver *s)
     sl_free_aligned(h->pbuf);
     sl_free_aligned(h->pall);
     free(h->rcnt), free(h->rdis), free(h->scnt), free(h->sdis);
+    free(h->rcnt2), free(h->rdis2), free(h->scnt2), free(h->sdis2);
     free(h->rcnt3), free(h->rdis3), free(h->scnt3), free(h->sdis3);
     free(h->pcnt), free(h->pdis);
     free(h);

@@ -11,16 +11,20 @@
  * density and pressure it computes itself, as every rank that sees them
  * does, with the same bits).  Per PCISPH iteration the halo's predicted
  * positions (after the prediction) and p/rho^2 (after the density pass)
- * are exchanged (MPI_Alltoallv), the density error's block sums are made
+ * (and density) are exchanged (MPI_Alltoallv), the density error's block sums are made
  * from every rank's whole blocks and the rows of the blocks it shares
  * (summed in the serial order), and the largest compression is reduced;
  * after the integration the new state (x, v, p, rho and the active
  * boundary's density and pressure) is gathered on every rank once.
  *
- * Used when the configuration allows it: no periodic axis (images would
- * need the halo of their originals), no EFF_DENSITY effect (it prepares
- * over every particle at x*), a boundary method with wall density (the
- * methods without it measure a volume error over every row).  Otherwise,
+ * Periodic images are refreshed from their originals as in the serial
+ * code (dom_periodic.h): an image in a rank's lists brings its original
+ * into the halo, a boundary image its original into the boundary set.
+ * The halo's density travels with its p/rho^2, for the EFF_DENSITY
+ * effects of the next pass (surfaceDensityCorrection reads the
+ * neighbours' density of the previous pass).  Used with a boundary method
+ * with wall density (the methods without it measure a volume error over
+ * every row, summed by sl_sum's vectorised blocks).  Otherwise,
  * and with SLUICE_PARALLEL_EXCHANGE=gather, the replicated gathers of
  * phase 1 (pcisph.c) are used.
  */

@@ -202,6 +202,26 @@ double srf_volume(const srf_mesh *m)
     return s;
 }
 
+double srf_height_at(const srf_mesh *m, double x, double y)
+{
+    double best = NAN;
+    for (size_t t = 0; t < m->nt; t++) {
+        double a[3], b[3], c[3];
+        corner(m, t, 0, a);
+        corner(m, t, 1, b);
+        corner(m, t, 2, c);
+        /* barycentric coordinates of (x, y) in the projected triangle */
+        const double det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+        if (det == 0) continue; /* seen edge-on from above */
+        const double u = ((x - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (y - a[1])) / det;
+        const double v = ((b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1])) / det;
+        if (u < 0 || v < 0 || u + v > 1) continue;
+        const double z = a[2] + u * (b[2] - a[2]) + v * (c[2] - a[2]);
+        if (isnan(best) || z > best) best = z;
+    }
+    return best;
+}
+
 static int cmp_u64(const void *a, const void *b)
 {
     const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;

@@ -105,6 +105,10 @@ void srf_mesh_free(srf_mesh *m);
  * oriented outwards. */
 double srf_area(const srf_mesh *m);
 double srf_volume(const srf_mesh *m);
+/* Free-surface elevation: the highest z at which the vertical line through
+ * (x, y) meets the surface (a triangle whose projection on the xy plane
+ * holds the point, edges included); NAN if the line misses it. */
+double srf_height_at(const srf_mesh *m, double x, double y);
 /* Edges used by other than exactly two triangles (0 for a closed surface);
  * *nedges gets the number of distinct edges (NULL: not wanted). */
 size_t srf_open_edges(const srf_mesh *m, size_t *nedges);

@@ -41,7 +41,7 @@ static int mpi_here(void)
  * own allocations are still held at exit and LeakSanitizer would fail every
  * rank, so leak checking is off for the ranks (serial runs keep it); ASan's
  * other checks stay on. */
-#define MPIRUN                                                                      \
+#define MPIRUN                                                                               \
     "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" mpirun -x ASAN_OPTIONS " \
     "--oversubscribe --bind-to none "
 
@@ -50,8 +50,7 @@ static int mpi_here(void)
 static int run_np(const char *src, const char *name, const char *edit, int np)
 {
     char cmd[4096], launch[256] = "";
-    if (np > 0)
-        snprintf(launch, sizeof launch, MPIRUN "-np %d ", np);
+    if (np > 0) snprintf(launch, sizeof launch, MPIRUN "-np %d ", np);
     snprintf(cmd, sizeof cmd,
              "rm -rf tests/output/%s && mkdir -p tests/output && cp -r %s tests/output/%s && "
              "(cd tests/output/%s && %s) && %s%s/pcisph -case tests/output/%s -quiet %s "
@@ -144,6 +143,29 @@ static void test_gather_mode_and_becker(void **state)
     same_output("parBeckerSerial", "parBecker3");
 }
 
+/* Effects with a halo of their own: the surface density correction reads
+ * the neighbours' density of the previous pass (EFF_DENSITY), surface
+ * tension every particle's neighbours (EFF_FORCES, all rows). */
+static void test_density_and_tension_effects(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    char edit[2048];
+    snprintf(edit, sizeof edit,
+             "%s && printf 'surfaceDensityCorrection { }\\n' >> constant/fluidProperties", dam);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parBKSerial", edit, 0), 0);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parBK3", edit, 3), 0);
+    same_output("parBKSerial", "parBK3");
+    assert_int_equal(system("grep -q 'parallel: halo mode' tests/output/parBK3/log.pcisph"), 0);
+    const char *drop = "sed -i 's/^endTime .*/endTime 0.02;/; s/^writeInterval .*/writeInterval "
+                       "0.01;/' system/controlDict && (grep -q '^numberOfThreads' "
+                       "system/controlDict && sed -i 's/^numberOfThreads .*/numberOfThreads 1;/' "
+                       "system/controlDict || echo 'numberOfThreads 1;' >> system/controlDict)";
+    assert_int_equal(run_np("tutorials/droplet", "parDropSerial", drop, 0), 0);
+    assert_int_equal(run_np("tutorials/droplet", "parDrop2", drop, 2), 0);
+    same_output("parDropSerial", "parDrop2");
+}
+
 /* The rocking tank: the moving walls are placed by every rank alike. */
 static void test_moving_boundary(void **state)
 {
@@ -195,8 +217,8 @@ static void test_restart_2_then_3(void **state)
     char cmd[1024];
     snprintf(cmd, sizeof cmd,
              "cd tests/output/parRestart && sed -i 's/^endTime .*/endTime 0.04;/; "
-             "s/^startFrom .*/startFrom latestTime;/' system/controlDict && "
-             MPIRUN "-np 3 %s/pcisph -case . -quiet -parallel "
+             "s/^startFrom .*/startFrom latestTime;/' system/controlDict && " MPIRUN
+             "-np 3 %s/pcisph -case . -quiet -parallel "
              "> log.restart 2>&1 && grep -q 'Restarting from' log.restart",
              bin_dir());
     assert_int_equal(system(cmd), 0);
@@ -208,7 +230,8 @@ static void test_restart_2_then_3(void **state)
                      0);
 }
 
-/* A periodic channel on 3 ranks: the serial files. */
+/* A periodic channel on 3 ranks in both modes, a box periodic along all
+ * three axes on 2: the serial files. */
 static void test_periodic(void **state)
 {
     (void)state;
@@ -217,6 +240,17 @@ static void test_periodic(void **state)
     assert_int_equal(run_np("tests/cases/periodicChannel", "parPeriodicSerial", edit, 0), 0);
     assert_int_equal(run_np("tests/cases/periodicChannel", "parPeriodic3", edit, 3), 0);
     same_output("parPeriodicSerial", "parPeriodic3");
+    assert_int_equal(system("grep -q 'parallel: halo mode' tests/output/parPeriodic3/log.pcisph"),
+                     0);
+    setenv("SLUICE_PARALLEL_EXCHANGE", "gather", 1);
+    int rc = run_np("tests/cases/periodicChannel", "parPeriodicGather3", edit, 3);
+    unsetenv("SLUICE_PARALLEL_EXCHANGE");
+    assert_int_equal(rc, 0);
+    same_output("parPeriodicSerial", "parPeriodicGather3");
+    /* periodic along x, y and z: images of images at the corners */
+    assert_int_equal(run_np("tests/cases/periodicBox", "parBoxSerial", edit, 0), 0);
+    assert_int_equal(run_np("tests/cases/periodicBox", "parBox2", edit, 2), 0);
+    same_output("parBoxSerial", "parBox2");
 }
 
 /* mpirun without -parallel would run the case N times over itself: refused. */
@@ -268,6 +302,7 @@ int main(void)
         cmocka_unit_test(test_dam_break_np123),
         cmocka_unit_test(test_ranks_times_threads),
         cmocka_unit_test(test_gather_mode_and_becker),
+        cmocka_unit_test(test_density_and_tension_effects),
         cmocka_unit_test(test_moving_boundary),
         cmocka_unit_test(test_emitter),
         cmocka_unit_test(test_restart_2_then_3),

@@ -12,7 +12,9 @@
  *     pressure;
  *   - over a short dam break (bin/pcisph then bin/reconstructSurface) every
  *     written surface is closed, encloses N r0^3 within SRF_DAM_VOLUME and no
- *     particle lies more than r0 outside it (VTK's signed distance);
+ *     particle lies more than r0 outside it (VTK's ray casting and signed
+ *     distance); the table postProcessing/surface/0/surface.dat has a row per
+ *     time, and a -gauge column the column's height at t = 0;
  *     -parallel writes the same files;
  *   - a bad system/surfaceDict stops with file, line and keyword.
  */
@@ -412,7 +414,8 @@ static void test_dam_break_surfaces(void **state)
         skip();
     }
     run_dam_break();
-    assert_int_equal(run("cd " DAM " && %s/reconstructSurface > log.reconstructSurface 2>&1",
+    assert_int_equal(run("cd " DAM " && %s/reconstructSurface -gauge '0.2 0.3' -gauge '5 5' "
+                         "> log.reconstructSurface 2>&1",
                          bin_dir()),
                      0);
     assert_int_equal(run("test -f " DAM "/surface.pvd && test -f " DAM "/surface.vtp.series"), 0);
@@ -421,6 +424,15 @@ static void test_dam_break_surfaces(void **state)
                          "tr '\\n' ' '"),
                      0);
     assert_string_equal(output, "0 0.05 0.1 0.15 0.2 0.25 0.3 ");
+    /* the gauge in the column: at t = 0 its top, 0.6 m (the colour field puts a
+     * flat surface half a spacing beyond the last layer, at 0.6 - r0/2);
+     * the line through (5, 5) misses the fluid */
+    assert_int_equal(run("awk '$1 == \"0\" {print $8, $9}' " DAM
+                         "/postProcessing/surface/0/surface.dat"),
+                     0);
+    print_message("surface height above (0.2, 0.3) at t = 0 and beside the tank: %s", output);
+    assert_true(fabs(strtod(output, NULL) - 0.6) < 0.25 * 0.03);
+    assert_non_null(strstr(output, "nan"));
     const double r0 = 0.03;
     const char *times[] = {"0", "0.05", "0.1", "0.15", "0.2", "0.25", "0.3"};
     for (size_t i = 0; i < sizeof times / sizeof *times; i++) {

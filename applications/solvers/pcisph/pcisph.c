@@ -598,14 +598,14 @@ static void summary_parallel(const run *r, double wall)
     if (sp->size == 1)
         sl_info("  parallel: one rank, nothing exchanged");
     else if (sp->halo)
-        sl_info("  parallel: halo mode: each PCISPH iteration exchanges x* and p/rho^2 of the "
+        sl_info("  parallel: halo mode: each PCISPH iteration exchanges x*, p/rho^2 and rho of the "
                 "halo only (rows received per rank: %zu at the last search, mean %.0f, largest "
                 "%zu); the state is gathered once per step", sp->halo_rows,
                 sp->halo_sum / searches, sp->halo_max);
     else
         sl_info("  parallel: gather mode: each PCISPH iteration gathers every rank's rows on "
-                "every rank (periodic axes, EFF_DENSITY effects, boundary methods without wall "
-                "density, or SLUICE_PARALLEL_EXCHANGE=gather)");
+                "every rank (a boundary method without wall density, or "
+                "SLUICE_PARALLEL_EXCHANGE=gather)");
     sl_info("  parallel: exchanges %.2f-%.2f s of the %.2f s time loop (%.1f %% at most, waiting "
             "included); per step %.1f collectives, %.1f messages and %.3g bytes received by "
             "rank 0", comm_min, comm_max, wall, wall > 0 ? 100 * comm_max / wall : 0.0,

@@ -4,6 +4,7 @@
  * doc/surface.md).
  *
  *   reconstructSurface [-case <dir>] [-time <times> | -latestTime] [-parallel]
+ *                      [-gauge '<x> <y>']...
  *
  * For each selected time directory holding fluid.vtu (the initial state
  * included) writes <time>/surface.vtp: triangles with velocity and pressure
@@ -14,7 +15,8 @@
  * defaults in etc/caseDicts/surfaceDict).  Each time's line gives the
  * surface's area and enclosed volume beside the fluid's N r0^3; the same
  * numbers go to postProcessing/surface/<firstTime>/surface.dat, one row per
- * time in time order, as the function objects' tables.
+ * time in time order, as the function objects' tables, with a column per
+ * -gauge: the free-surface height above that point.
  *
  * Threads (numberOfThreads of system/controlDict, 0: all cores) work inside
  * one time; with -parallel they take one time each instead, which is faster
@@ -44,6 +46,12 @@ static const app_option options[] = {
     APP_CASE,
     APP_TIMES,
     {.name = "parallel", .help = "one time per thread (default: the threads share each time)"},
+    {.name = "gauge",
+     .kind = APP_STRING,
+     .arg = "'<x> <y>'",
+     .help = "also measure the free-surface height along the vertical line\n"
+             "through (x, y) (a column heightN of surface.dat); repeat for several",
+     .repeat = 1},
     APP_END};
 
 static const app_info info = {
@@ -73,15 +81,24 @@ static double *component(const vtkr_file *f, const char *name, int ncomp, int k)
     return v;
 }
 
+/* The most -gauge lines. */
+#define RS_MAX_GAUGES 64
+
+typedef struct gauges {
+    size_t n;
+    double xy[RS_MAX_GAUGES][2];
+} gauges;
+
 typedef struct frame_stats {
     size_t n, nt;
     double area, volume, seconds;
+    double height[RS_MAX_GAUGES]; /* NAN: the line misses the surface */
 } frame_stats;
 
-static frame_stats one_time(const sl_case *c, const srf_params *prm, const char *tname,
-                            double t)
+static frame_stats one_time(const sl_case *c, const srf_params *prm, const gauges *gs,
+                            const char *tname, double t)
 {
-    frame_stats st = {0, 0, 0, 0, omp_get_wtime()};
+    frame_stats st = {0, 0, 0, 0, omp_get_wtime(), {0}};
     char *in = path_of(c->dir, tname, "fluid.vtu"), *out = path_of(c->dir, tname, "surface.vtp");
     vtkr_file f;
     srf_mesh m;
@@ -116,6 +133,7 @@ static frame_stats one_time(const sl_case *c, const srf_params *prm, const char 
     st.nt = m.nt;
     st.area = srf_area(&m);
     st.volume = srf_volume(&m);
+    for (size_t g = 0; g < gs->n; g++) st.height[g] = srf_height_at(&m, gs->xy[g][0], gs->xy[g][1]);
     st.seconds = omp_get_wtime() - st.seconds;
     srf_mesh_free(&m);
     free((void *)p.vx);
@@ -132,7 +150,8 @@ static frame_stats one_time(const sl_case *c, const srf_params *prm, const char 
 }
 
 /* postProcessing/surface/<first>/surface.dat: one row per time. */
-static void write_table(const sl_case *c, const tdir_list *times, const frame_stats *st)
+static void write_table(const sl_case *c, const tdir_list *times, const gauges *gs,
+                        const frame_stats *st)
 {
     const double v0 = c->prm.r0 * c->prm.r0 * c->prm.r0;
     char *dir = path_of(c->dir, "postProcessing/surface", times->name[0]);
@@ -144,12 +163,19 @@ static void write_table(const sl_case *c, const tdir_list *times, const frame_st
     if (!f) sl_fatal("%s", err.msg);
     fprintf(f, "# Free-surface measurements (Sluice reconstructSurface), one row per time\n"
                "# area: of the reconstructed surface (m^2); volume: the volume it encloses (m^3)\n"
-               "# fluidVolume: particles times r0^3 (m^3); volumeRatio = volume / fluidVolume\n"
-               "# Time\tparticles\ttriangles\tarea\tvolume\tfluidVolume\tvolumeRatio\n");
+               "# fluidVolume: particles times r0^3 (m^3); volumeRatio = volume / fluidVolume\n");
+    for (size_t g = 0; g < gs->n; g++)
+        fprintf(f, "# height%zu: the highest surface point above (x, y) = (%g, %g) (m; nan: none)\n",
+                g + 1, gs->xy[g][0], gs->xy[g][1]);
+    fprintf(f, "# Time\tparticles\ttriangles\tarea\tvolume\tfluidVolume\tvolumeRatio");
+    for (size_t g = 0; g < gs->n; g++) fprintf(f, "\theight%zu", g + 1);
+    fprintf(f, "\n");
     for (size_t i = 0; i < times->n; i++) {
         const double fv = (double)st[i].n * v0;
-        fprintf(f, "%s\t%zu\t%zu\t%.10g\t%.10g\t%.10g\t%.10g\n", times->name[i], st[i].n,
+        fprintf(f, "%s\t%zu\t%zu\t%.10g\t%.10g\t%.10g\t%.10g", times->name[i], st[i].n,
                 st[i].nt, st[i].area, st[i].volume, fv, fv > 0 ? st[i].volume / fv : 0.0);
+        for (size_t g = 0; g < gs->n; g++) fprintf(f, "\t%.10g", st[i].height[g]);
+        fprintf(f, "\n");
     }
     if (afile_commit(&af, &err)) sl_fatal("%s", err.msg);
     sl_info("Measurements: %s", path);
@@ -200,11 +226,27 @@ static double cpu_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The -gauge options: two finite numbers each. */
+static void read_gauges(const app *a, gauges *gs)
+{
+    gs->n = app_count(a, "gauge");
+    if (gs->n > RS_MAX_GAUGES) app_error(a, "at most %d -gauge lines", RS_MAX_GAUGES);
+    for (size_t g = 0; g < gs->n; g++) {
+        const char *v = app_value_at(a, "gauge", g);
+        char x[64], y[64], extra;
+        if (sscanf(v, "%63s %63s %c", x, y, &extra) != 2 ||
+            app_parse_double(x, &gs->xy[g][0]) || app_parse_double(y, &gs->xy[g][1]))
+            app_error(a, "-gauge: '%s' is not two numbers '<x> <y>'", v);
+    }
+}
+
 int main(int argc, char **argv)
 {
     sl_threads_passive(argv); /* before any parallel region */
     app a;
+    gauges gs;
     app_parse(&a, &info, argc, argv);
+    read_gauges(&a, &gs);
     const int par = app_found(&a, "parallel");
     sl_case c;
     tdir_list times;
@@ -221,7 +263,7 @@ int main(int argc, char **argv)
     frame_stats *all = sl_calloc(times.n, sizeof *all, "surface statistics");
 #pragma omp parallel for schedule(dynamic, 1) if (par)
     for (size_t i = 0; i < times.n; i++) {
-        frame_stats st = one_time(&c, &prm, times.name[i], times.time[i]);
+        frame_stats st = one_time(&c, &prm, &gs, times.name[i], times.time[i]);
         all[i] = st;
         const double fluid = (double)st.n * c.prm.r0 * c.prm.r0 * c.prm.r0;
 #pragma omp critical
@@ -240,7 +282,7 @@ int main(int argc, char **argv)
     sl_progress_end(&prog);
     const double wall = omp_get_wtime() - t0, cpu = cpu_seconds() - c0;
     write_collection(c.dir);
-    write_table(&c, &times, all);
+    write_table(&c, &times, &gs, all);
     free(all);
     const double mega = particle_sum / 1e6;
     sl_info("reconstructSurface: %zu time%s in %.2f s wall, %.2f CPU s (%s, %d thread%s): "

@@ -5,9 +5,11 @@
  *   verifyCase [-case <dir>] [-time <times> | -latestTime] [-table <file>] [-label <text>]
  *
  * Prints one line per written time (its error and the measures behind it),
- * then the case's error: the largest over the times at or after `from`
- * (hydrostatic and translatingTank: the latest time; standingWave: the
- * period's relative error, from the minima of the kinetic energy).  With
+ * then the case's error over the times at or after `from`: the largest
+ * (poiseuille, taylorGreen), the mean (hydrostatic, translatingTank: they
+ * oscillate about their settled state), or for standingWave the period's
+ * relative error, from the zero crossings of the velocity's projection on
+ * the linear mode (all written times, the first included).  With
  * -table a row "label kind r0 particles error wallTime steps" is appended
  * to <file> (a header first when the file is new); wallTime is the sum of
  * the steps' wall seconds of postProcessing/timeStep/0/timeStep.dat (the
@@ -169,8 +171,9 @@ int main(int argc, char **argv)
         int ncross;
         double T = wave_period(smp, times.n, Te, &ncross);
         if (!isfinite(T))
-            sl_fatal("%s: no minimum of the kinetic energy in the written times: write more "
-                     "often than a quarter period (%.4g s) and run at least half a period",
+            sl_fatal("%s: the velocity's projection on the wave's mode does not change sign in "
+                     "the written times: write more often than a quarter period (%.4g s) and "
+                     "run at least a quarter period",
                      c.dir, 0.25 * Te);
         error = fabs(T - Te) / Te;
         printf("# period %.6g s from %d zero crossings, linear theory %.6g s (L %g m, H %.6g m)\n", T,
