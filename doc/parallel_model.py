@@ -17,8 +17,8 @@ ACTIVE = 0.21        # active boundary particles per fluid particle (3 doubles e
 KAPPA = (3.8, 12.0)  # fluid halo per rank = kappa (N/P)^(2/3): RCB of damBreak (walls,
                      # free surface) .. a cube inside the fluid, 12 n^(2/3) (decomposeCase)
 SEARCH = 0.10        # share of a step in the search (sort and lists), which the halo adds to
-F_OWN = 0.80         # halo mode: share of a serial step in the own-row work (prediction,
-                     # collision, density, pressure force, integration: 0.49 of 0.61 s)
+F_OWN = 0.90         # halo mode: share of a serial step in the own-row work (prediction,
+                     # collision, density, pressure force, viscosity, integration: 0.55 of 0.61 s)
 KAPPA_ROWS = 9.1     # halo of the rows partition: 1894 / 2995^(2/3) (decomposeCase, 8 ranks)
 STATE = 8            # halo mode: arrays gathered once per step (x, v, p, rho)
 # ---- published: 100 Gb/s InfiniBand ----
@@ -44,14 +44,14 @@ def phase1(n, p, f_split=F_SPLIT):
 def phase1b(n, p):
     """Halo mode: every rank does the search and forces of all n particles
     (1 - F_OWN), its own rows' share of the rest; per iteration x* and
-    p/rho^2 of the rows partition's halo by personalised exchange
+    p/rho^2 and rho of the rows partition's halo by personalised exchange
     (Alltoallv: P - 1 messages, most of them empty, at alpha each), the
     block sums (small) and a max; per step the state (STATE arrays of N)
     by Allgatherv."""
     nl = n / p
     halo = KAPPA_ROWS * nl ** (2.0 / 3.0) if p > 1 else 0.0
     compute = n * C * ((1 - F_OWN) + F_OWN / p)
-    per_iter = 2 * (p - 1) * ALPHA + 32 * halo / BW + allgatherv(8 * p, p) + allreduce(p)
+    per_iter = 2 * (p - 1) * ALPHA + 40 * halo / BW + allgatherv(8 * p, p) + allreduce(p)
     per_step = STATE * allgatherv(8 * n, p) + allgatherv(24 * ACTIVE * n, p) + 3 * allreduce(p)
     return compute, ITER * per_iter + per_step
 

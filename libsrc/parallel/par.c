@@ -273,6 +273,7 @@ void par_alltoallv_u32(const uint32_t *s, const int *scnt, const int *sdis, uint
         return;
     }
 #endif
+    (void)rcnt;
     for (int k = 0; k < scnt[0]; k++) r[rdis[0] + k] = s[sdis[0] + k];
 }
 
@@ -287,5 +288,6 @@ void par_alltoallv_double(const double *s, const int *scnt, const int *sdis, dou
         return;
     }
 #endif
+    (void)rcnt;
     for (int k = 0; k < scnt[0]; k++) r[rdis[0] + k] = s[sdis[0] + k];
 }

@@ -29,7 +29,7 @@ int pcx_usable(const pcs_solver *s)
 {
     const char *e = getenv("SLUICE_PARALLEL_EXCHANGE");
     if (e && !strcmp(e, "gather")) return 0;
-    return s->split.size > 1 && s->prm.method->wall_density;
+    return s->split.size > 1;
 }
 
 static void *grow(void *p, size_t *cap, size_t need, size_t elem, const char *what)
@@ -263,6 +263,9 @@ double pcx_after_density(pcs_solver *s, double emax)
         f->pt[h->recv_idx[q]] = h->rbuf[2 * q];
         f->rho[h->recv_idx[q]] = h->rbuf[2 * q + 1];
     }
+    /* the methods without wall density measure the compression with the
+     * wall's share over every row (sl_sum's blocks): their rows, whole */
+    if (!s->prm.method->wall_density) par_gather_rows(s->err_vol, sp->row);
     emax = par_max_double(emax);
     s->time.comm += omp_get_wtime() - t0;
     return emax;

@@ -22,9 +22,12 @@
  * into the halo, a boundary image its original into the boundary set.
  * The halo's density travels with its p/rho^2, for the EFF_DENSITY
  * effects of the next pass (surfaceDensityCorrection reads the
- * neighbours' density of the previous pass).  Used with a boundary method
- * with wall density (the methods without it measure a volume error over
- * every row, summed by sl_sum's vectorised blocks).  Otherwise,
+ * neighbours' density of the previous pass).  The boundary methods
+ * without wall density (becker2009, harada2007) also measure the
+ * compression with the wall's share, summed over every row by sl_sum's
+ * vectorised blocks: that array is gathered whole after each density
+ * pass (one O(N) gather per iteration, where the gather mode has seven).
+ * SLUICE_PARALLEL_EXCHANGE=gather selects the gather mode (pcisph.c).  Otherwise,
  * and with SLUICE_PARALLEL_EXCHANGE=gather, the replicated gathers of
  * phase 1 (pcisph.c) are used.
  */

@@ -117,9 +117,9 @@ static void test_ranks_times_threads(void **state)
     same_output("parDamSerialT", "parDam2x2");
 }
 
-/* The gather mode of phase 1 (SLUICE_PARALLEL_EXCHANGE=gather), and a
- * boundary method without wall density (becker2009, which uses it): the
- * serial files too. */
+/* The gather mode of phase 1 (SLUICE_PARALLEL_EXCHANGE=gather), and the
+ * boundary methods without wall density (becker2009, harada2007) on 3
+ * ranks: the serial files too. */
 static void test_gather_mode_and_becker(void **state)
 {
     (void)state;
@@ -141,6 +141,11 @@ static void test_gather_mode_and_becker(void **state)
     assert_int_equal(run_np("tests/cases/damBreakShort", "parBeckerSerial", edit, 0), 0);
     assert_int_equal(run_np("tests/cases/damBreakShort", "parBecker3", edit, 3), 0);
     same_output("parBeckerSerial", "parBecker3");
+    snprintf(edit, sizeof edit,
+             "%s && sed -i 's/^method .*/method harada2007;/' constant/boundaryProperties", dam);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parHaradaSerial", edit, 0), 0);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parHarada3", edit, 3), 0);
+    same_output("parHaradaSerial", "parHarada3");
 }
 
 /* Effects with a halo of their own: the surface density correction reads

@@ -604,8 +604,7 @@ static void summary_parallel(const run *r, double wall)
                 sp->halo_sum / searches, sp->halo_max);
     else
         sl_info("  parallel: gather mode: each PCISPH iteration gathers every rank's rows on "
-                "every rank (a boundary method without wall density, or "
-                "SLUICE_PARALLEL_EXCHANGE=gather)");
+                "every rank (SLUICE_PARALLEL_EXCHANGE=gather)");
     sl_info("  parallel: exchanges %.2f-%.2f s of the %.2f s time loop (%.1f %% at most, waiting "
             "included); per step %.1f collectives, %.1f messages and %.3g bytes received by "
             "rank 0", comm_min, comm_max, wall, wall > 0 ? 100 * comm_max / wall : 0.0,
