@@ -329,23 +329,33 @@ static void test_sigterm_writes_and_stops(void **state)
  * restart. */
 static void kill_midway(const char *name, int twice)
 {
-    make_case(name, NULL);
-    set_key(name, "system/controlDict", "endTime", "5");
-    set_key(name, "system/controlDict", "writeInterval", "0.01");
-    pid_t pid = spawn(name);
-    assert_true(wait_file(pid, name, "0.03/fluid.vtu", 300));
-    if (twice) {
-        /* two signals sent together may merge into one: send the second
-         * once the first is no longer pending */
-        kill(pid, SIGINT);
-        wait_delivered(pid, SIGINT);
-        kill(pid, SIGINT);
-    } else {
-        kill(pid, SIGKILL);
+    int status = 0;
+    double took = 0;
+    for (int attempt = 1; attempt <= 3; attempt++) {
+        make_case(name, NULL);
+        set_key(name, "system/controlDict", "endTime", "5");
+        set_key(name, "system/controlDict", "writeInterval", "0.01");
+        pid_t pid = spawn(name);
+        assert_true(wait_file(pid, name, "0.03/fluid.vtu", 300));
+        if (twice) {
+            /* two signals sent together may merge into one: send the second
+             * once the first is no longer pending */
+            kill(pid, SIGINT);
+            wait_delivered(pid, SIGINT);
+            kill(pid, SIGINT);
+        } else {
+            kill(pid, SIGKILL);
+        }
+        double t0 = now();
+        status = wait_end(pid, 60);
+        took = now() - t0;
+        /* On a busy machine the run can finish its step, write and exit on
+         * the first SIGINT before this process sends the second: that run
+         * tells nothing about the second signal, so it is run again. */
+        if (!(twice && WIFEXITED(status))) break;
+        print_message("attempt %d: the run ended on the first SIGINT (status %#x) before the "
+                      "second was sent: again\n", attempt, status);
     }
-    double t0 = now();
-    int status = wait_end(pid, 60);
-    double took = now() - t0;
     print_message("%s: ended after %.3f s, status %#x\n", twice ? "two SIGINTs" : "SIGKILL", took,
                   status);
     assert_true(WIFSIGNALED(status));
