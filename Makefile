@@ -39,7 +39,7 @@ MODULES  := $(notdir $(wildcard libsrc/*))
 # its right.  They are linked in this order without --start-group, so that
 # a call upwards (a lower layer using a higher one) fails to link.
 LAYERS   := functionObjects case solver domain effects boundary motion surface neighbours geometry \
-            casefiles dictedit timestep app dictionary io particles kernel parallel core
+            caseFolder dictedit timestep app dictionary io particles kernel parallel core
 ifneq ($(sort $(MODULES)),$(sort $(LAYERS)))
   $(error libsrc modules and LAYERS in the Makefile differ: $(sort $(MODULES)) vs $(sort $(LAYERS)))
 endif

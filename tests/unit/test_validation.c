@@ -12,7 +12,7 @@
 
 #include "tool_run.h"
 
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 
 #include <math.h>
 #include <stdio.h>

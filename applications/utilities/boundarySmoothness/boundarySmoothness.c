@@ -37,7 +37,7 @@
 
 #include "app/app.h"
 #include "case/case.h"
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 #include "geometry/geometry.h"

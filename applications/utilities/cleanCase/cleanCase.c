@@ -8,7 +8,7 @@
  *   cleanCase [-case <dir>] [-dryRun] [<case>]
  */
 #include "app/app.h"
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 #include "core/sl_log.h"
 
 #include <dirent.h>

@@ -6,7 +6,7 @@
  *   cloneCase [-force] <source case> <new case>
  */
 #include "app/app.h"
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 #include "core/sl_log.h"
 
 #include <errno.h>

@@ -4,12 +4,12 @@
  * geometry, normalisation), then a header row, then comma-separated rows.
  * Function-object files: '#' lines whose last names the columns, then
  * tab-separated rows with "nan" where a value does not exist.  Both are
- * read by casefiles' cf_table_read_as (strict: a ragged row is an error);
+ * read by caseFolder' cf_table_read_as (strict: a ragged row is an error);
  * this adds the path and the checks that compareExperiment needs.
  */
 #include "ce.h"
 
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 

@@ -15,7 +15,7 @@
  */
 #include "app/app.h"
 #include "case/case_restart.h"
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 #include "core/sl_log.h"
 #include "io/time_dir.h"
 

@@ -11,7 +11,7 @@
  *               [-print] [<file>]
  */
 #include "app/app.h"
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 

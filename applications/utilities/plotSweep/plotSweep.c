@@ -16,7 +16,7 @@
  * error leaves no partial output.
  */
 #include "app/app.h"
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 

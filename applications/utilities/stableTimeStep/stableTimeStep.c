@@ -26,7 +26,7 @@
 #include <unistd.h>
 
 #include "app/app.h"
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 #include "core/sl_proc.h"

@@ -12,7 +12,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 #include "core/sl_log.h"
 #include "io/atomic_file.h"
 

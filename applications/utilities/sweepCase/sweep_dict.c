@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "case/case.h"
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 #include "dictionary/dict.h"

@@ -15,7 +15,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 #include "core/sl_proc.h"

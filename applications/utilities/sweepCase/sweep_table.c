@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 #include "io/atomic_file.h"

@@ -1,9 +1,9 @@
 /*
- * cf_clone: copy the input of a case, not its results (see casefiles.h):
+ * cf_clone: copy the input of a case, not its results (see caseFolder.h):
  * every root entry that cf_root_kind calls input, and the input files of a
  * time directory 0 (initial conditions), without the solver's output.
  */
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 
 #include <dirent.h>
 #include <errno.h>

@@ -1,10 +1,10 @@
 /*
- * cf_tree: paths, copying and removing folder trees (see casefiles.h).
+ * cf_tree: paths, copying and removing folder trees (see caseFolder.h).
  * Symlinks are copied and removed as links, never followed, so that a
  * link to a shared mesh or to "/" cannot make a tool copy or delete what
  * lies outside the case.
  */
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 
 #include <dirent.h>
 #include <errno.h>

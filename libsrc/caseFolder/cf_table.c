@@ -10,7 +10,7 @@
  * data: '#' lines, a header row, comma-separated rows, quotes stripped) and,
  * strict, refuses rows whose field count differs from the header's.
  */
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 
 #include <ctype.h>
 #include <errno.h>

@@ -1,5 +1,5 @@
 /*
- * casefiles: the files of a case folder as the case tools (cloneCase,
+ * caseFolder: the files of a case folder as the case tools (cloneCase,
  * cleanCase, listTimes, sweepCase, monitorCase) see them -- which root
  * entries are input and which are results, copying and removing trees,
  * rewriting the ParaView collections from the time directories left,

@@ -1,9 +1,9 @@
 /*
  * cf_case: what the entries of a case folder are, the collections that
  * index its time directories, and where its per-step record is (see
- * casefiles.h).
+ * caseFolder.h).
  */
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 
 #include <dirent.h>
 #include <errno.h>

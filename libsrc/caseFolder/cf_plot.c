@@ -7,7 +7,7 @@
  * both started by sl_proc, so a missing gnuplot is one message; plus the
  * PNG terminal available (pngcairo, else libgd's png) and string quoting.
  */
-#include "casefiles/casefiles.h"
+#include "caseFolder/caseFolder.h"
 
 #include "core/sl_proc.h"
 
