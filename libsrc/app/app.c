@@ -120,10 +120,12 @@ static void app_check_value(const app_info *info, const app_option *o, const cha
     double x;
     long l;
     if (o->kind == APP_INT) {
-        if (app_parse_long(value, &l)) app_fail(info, "-%s: '%s' is not an integer", o->name, value);
+        if (app_parse_long(value, &l))
+            app_fail(info, "-%s: '%s' is not an integer", o->name, value);
         x = (double)l;
     } else if (o->kind == APP_DOUBLE) {
-        if (app_parse_double(value, &x)) app_fail(info, "-%s: '%s' is not a number", o->name, value);
+        if (app_parse_double(value, &x))
+            app_fail(info, "-%s: '%s' is not a number", o->name, value);
     } else {
         if (!*value && o->kind != APP_STRING) app_fail(info, "-%s: an empty name", o->name);
         return;
@@ -167,12 +169,14 @@ static void app_option_arg(app *a, int argc, char **argv, int *i)
     int alias, k = app_lookup(info, arg + 1, &alias);
     if (k < 0) app_unknown(info, arg);
     const app_option *o = &info->options[k];
-    if (alias) fprintf(stderr, "Warning: %s: %s is an old spelling: use -%s\n", info->name, arg, o->name);
+    if (alias)
+        fprintf(stderr, "Warning: %s: %s is an old spelling: use -%s\n", info->name, arg, o->name);
     for (size_t g = 0; g < a->ngiven; g++)
         if (a->given[g].opt == k && !o->repeat) app_fail(info, "-%s is given twice", o->name);
     const char *value = NULL;
     if (o->kind != APP_NONE) {
-        if (*i + 1 >= argc) app_fail(info, "-%s needs an argument %s", o->name, o->arg ? o->arg : "");
+        if (*i + 1 >= argc)
+            app_fail(info, "-%s needs an argument %s", o->name, o->arg ? o->arg : "");
         value = argv[++*i];
         app_check_value(info, o, value);
     }
@@ -180,10 +184,7 @@ static void app_option_arg(app *a, int argc, char **argv, int *i)
 }
 
 /* The words after which everything is an argument: "--". */
-static int app_is_option(const char *s)
-{
-    return s[0] == '-' && s[1] != '\0';
-}
+static int app_is_option(const char *s) { return s[0] == '-' && s[1] != '\0'; }
 
 void app_parse(app *a, const app_info *info, int argc, char **argv)
 {
@@ -235,10 +236,7 @@ size_t app_count(const app *a, const char *name)
     return n;
 }
 
-int app_found(const app *a, const char *name)
-{
-    return app_count(a, name) > 0;
-}
+int app_found(const app *a, const char *name) { return app_count(a, name) > 0; }
 
 const char *app_value_at(const app *a, const char *name, size_t i)
 {
@@ -274,10 +272,7 @@ double app_double(const app *a, const char *name, double def)
     return x;
 }
 
-const char *app_case(const app *a)
-{
-    return app_string(a, "case", ".");
-}
+const char *app_case(const app *a) { return app_string(a, "case", "."); }
 
 const char *app_case_or_arg(const app *a)
 {

@@ -60,57 +60,76 @@ typedef enum app_kind {
 } app_kind;
 
 typedef struct app_option {
-    const char *name;     /* camelCase, without the '-' */
+    const char *name; /* camelCase, without the '-' */
     app_kind kind;
-    const char *arg;      /* the argument in -help ("<N>"); NULL: from the kind */
-    const char *help;     /* what it does; '\n' starts a new line of help */
-    const char *def;      /* the default as -help shows it ("5"); NULL: none shown */
-    const char *aliases;  /* old spellings, space-separated ("dry-run n"): a warning */
-    double min, max;      /* APP_INT, APP_DOUBLE: the range, checked when min < max */
-    int above_min;        /* the value must be above min, not equal to it */
-    int repeat;           /* may be given more than once (app_count, app_value_at) */
-    const char *glob;     /* APP_PATH: what bash completes ("*.png"); NULL: any file */
+    const char *arg;     /* the argument in -help ("<N>"); NULL: from the kind */
+    const char *help;    /* what it does; '\n' starts a new line of help */
+    const char *def;     /* the default as -help shows it ("5"); NULL: none shown */
+    const char *aliases; /* old spellings, space-separated ("dry-run n"): a warning */
+    double min, max;     /* APP_INT, APP_DOUBLE: the range, checked when min < max */
+    int above_min;       /* the value must be above min, not equal to it */
+    int repeat;          /* may be given more than once (app_count, app_value_at) */
+    const char *glob;    /* APP_PATH: what bash completes ("*.png"); NULL: any file */
 } app_option;
 
 /* The shared options.  APP_TIMES is two entries, -time and -latestTime. */
-#define APP_CASE                                                                                  \
-    {"case", APP_DIR, "<dir>", "the case", "the current directory", NULL, 0, 0, 0, 0, NULL}
-#define APP_TIMES                                                                                 \
-    {"time", APP_STRING, "<times>",                                                               \
-     "only these times: times and ranges, comma-separated,\n"                                     \
-     "e.g. 0.5  0.5:1  :0.2  0.8:  0,0.5:1 (inclusive)",                                          \
-     NULL, NULL, 0, 0, 0, 0, NULL},                                                               \
-    {"latestTime", APP_NONE, NULL, "only the latest time", NULL, NULL, 0, 0, 0, 0, NULL}
+#define APP_CASE                                                                              \
+    {                                                                                         \
+        "case", APP_DIR, "<dir>", "the case", "the current directory", NULL, 0, 0, 0, 0, NULL \
+    }
+#define APP_TIMES                                                                          \
+    {"time",                                                                               \
+     APP_STRING,                                                                           \
+     "<times>",                                                                            \
+     "only these times: times and ranges, comma-separated,\n"                              \
+     "e.g. 0.5  0.5:1  :0.2  0.8:  0,0.5:1 (inclusive)",                                   \
+     NULL,                                                                                 \
+     NULL,                                                                                 \
+     0,                                                                                    \
+     0,                                                                                    \
+     0,                                                                                    \
+     0,                                                                                    \
+     NULL},                                                                                \
+    {                                                                                      \
+        "latestTime", APP_NONE, NULL, "only the latest time", NULL, NULL, 0, 0, 0, 0, NULL \
+    }
 /* -jobs <N> (runs at a time, default the cores) and -threads <T> of the
  * programs that run the solver several times (sweepCase, stableTimeStep). */
-#define APP_JOBS(what)                                                                            \
-    {.name = "jobs", .kind = APP_INT, .help = what, .def = "the number of cores", .min = 1,       \
-     .max = 4096}
-#define APP_THREADS(what, def_)                                                                   \
-    {.name = "threads", .kind = APP_INT, .arg = "<T>", .help = what, .def = def_, .min = 1,       \
-     .max = 4096}
-#define APP_END {NULL, APP_NONE, NULL, NULL, NULL, NULL, 0, 0, 0, 0, NULL}
+#define APP_JOBS(what)                                                                         \
+    {                                                                                          \
+        .name = "jobs", .kind = APP_INT, .help = what, .def = "the number of cores", .min = 1, \
+        .max = 4096                                                                            \
+    }
+#define APP_THREADS(what, def_)                                                                \
+    {                                                                                          \
+        .name = "threads", .kind = APP_INT, .arg = "<T>", .help = what, .def = def_, .min = 1, \
+        .max = 4096                                                                            \
+    }
+#define APP_END                                                  \
+    {                                                            \
+        NULL, APP_NONE, NULL, NULL, NULL, NULL, 0, 0, 0, 0, NULL \
+    }
 
 typedef struct app_info {
-    const char *name;           /* the program, as the user types it */
-    const char *what;           /* the description (paragraphs; -help prints it last) */
-    const app_option *options;  /* ends with APP_END; -help is added by the frame */
-    const char *args;           /* the arguments in the usage line ("<source> <new case>") */
-    int min_args, max_args;     /* how many arguments (max_args < 0: any number) */
-    app_kind args_kind;         /* what bash completes for them (APP_NONE: files) */
-    const char *notes;          /* printed after the description (syntax, examples) */
+    const char *name;          /* the program, as the user types it */
+    const char *what;          /* the description (paragraphs; -help prints it last) */
+    const app_option *options; /* ends with APP_END; -help is added by the frame */
+    const char *args;          /* the arguments in the usage line ("<source> <new case>") */
+    int min_args, max_args;    /* how many arguments (max_args < 0: any number) */
+    app_kind args_kind;        /* what bash completes for them (APP_NONE: files) */
+    const char *notes;         /* printed after the description (syntax, examples) */
 } app_info;
 
 typedef struct app_given {
-    int opt;            /* index in the table */
-    const char *value;  /* its argument (NULL for a switch) */
+    int opt;           /* index in the table */
+    const char *value; /* its argument (NULL for a switch) */
 } app_given;
 
 typedef struct app {
     const app_info *info;
-    app_given *given;   /* in command-line order */
+    app_given *given; /* in command-line order */
     size_t ngiven;
-    const char **args;  /* the arguments that are not options */
+    const char **args; /* the arguments that are not options */
     size_t nargs;
 } app;
 

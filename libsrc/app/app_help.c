@@ -14,12 +14,18 @@ enum { APP_HELP_WIDTH = 80 };
 static const char *app_kind_arg(app_kind k)
 {
     switch (k) {
-    case APP_NONE: return "";
-    case APP_INT: return "<N>";
-    case APP_DOUBLE: return "<x>";
-    case APP_STRING: return "<word>";
-    case APP_PATH: return "<file>";
-    case APP_DIR: return "<dir>";
+    case APP_NONE:
+        return "";
+    case APP_INT:
+        return "<N>";
+    case APP_DOUBLE:
+        return "<x>";
+    case APP_STRING:
+        return "<word>";
+    case APP_PATH:
+        return "<file>";
+    case APP_DIR:
+        return "<dir>";
     }
     return "";
 }
@@ -27,12 +33,18 @@ static const char *app_kind_arg(app_kind k)
 static const char *app_kind_word(app_kind k)
 {
     switch (k) {
-    case APP_NONE: return "none";
-    case APP_INT: return "int";
-    case APP_DOUBLE: return "double";
-    case APP_STRING: return "string";
-    case APP_PATH: return "path";
-    case APP_DIR: return "dir";
+    case APP_NONE:
+        return "none";
+    case APP_INT:
+        return "int";
+    case APP_DOUBLE:
+        return "double";
+    case APP_STRING:
+        return "string";
+    case APP_PATH:
+        return "path";
+    case APP_DIR:
+        return "dir";
     }
     return "none";
 }
@@ -95,8 +107,8 @@ static void app_help_aliases(FILE *out, const app_info *info)
 
 void app_print_help(const app_info *info, FILE *out)
 {
-    static const app_option help = {"help", APP_NONE, NULL, "print this help", NULL, NULL,
-                                    0, 0, 0, 0, NULL};
+    static const app_option help = {"help", APP_NONE, NULL, "print this help", NULL, NULL, 0, 0,
+                                    0,      0,        NULL};
     int col = 6;
     char syn[128];
     for (const app_option *o = info->options; o && o->name; o++) {
@@ -126,6 +138,6 @@ void app_print_completion(const app_info *info, FILE *out)
                 o->glob ? o->glob : "");
     fputs("-help none\n", out);
     if (info->max_args != 0)
-        fprintf(out, "@args %s\n", app_kind_word(info->args_kind == APP_NONE ? APP_PATH
-                                                                             : info->args_kind));
+        fprintf(out, "@args %s\n",
+                app_kind_word(info->args_kind == APP_NONE ? APP_PATH : info->args_kind));
 }

@@ -2,8 +2,8 @@
 #include "boundary/becker2009.h"
 
 size_t bnd_collide_becker(const nbr_list *fb, const sl_boundary *b, double r0, double epsilon,
-                          double restitution, size_t n, double *x, double *y, double *z,
-                          double *vx, double *vy, double *vz)
+                          double restitution, size_t n, double *x, double *y, double *z, double *vx,
+                          double *vy, double *vz)
 {
     size_t hits = 0;
 #pragma omp parallel for schedule(static) reduction(+ : hits)

@@ -18,19 +18,30 @@ enum { becker2009_wall_density = 0 };
 static inline __attribute__((always_inline)) double
 becker2009_density(const bnd_pass *c, size_t i, double x, double y, double z, double rb)
 {
-    (void)c; (void)i; (void)x; (void)y; (void)z; (void)rb;
+    (void)c;
+    (void)i;
+    (void)x;
+    (void)y;
+    (void)z;
+    (void)rb;
     return 0.0;
 }
 
-static inline __attribute__((always_inline)) void
-becker2009_pressure(const bnd_pass *c, size_t i, double x, double y, double z, double pti,
-                    double a[3])
+static inline __attribute__((always_inline)) void becker2009_pressure(const bnd_pass *c, size_t i,
+                                                                      double x, double y, double z,
+                                                                      double pti, double a[3])
 {
-    (void)c; (void)i; (void)x; (void)y; (void)z; (void)pti; (void)a;
+    (void)c;
+    (void)i;
+    (void)x;
+    (void)y;
+    (void)z;
+    (void)pti;
+    (void)a;
 }
 
 size_t bnd_collide_becker(const nbr_list *fb, const sl_boundary *b, double r0, double epsilon,
-                          double restitution, size_t n, double *x, double *y, double *z,
-                          double *vx, double *vy, double *vz);
+                          double restitution, size_t n, double *x, double *y, double *z, double *vx,
+                          double *vy, double *vz);
 
 #endif

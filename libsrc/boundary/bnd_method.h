@@ -35,8 +35,8 @@
 typedef struct bnd_setup {
     krn_kernel k;
     double r0, mass, rho0;
-    double epsilon;       /* eq. (12): tangential velocity kept on contact */
-    double restitution;   /* becker2009: delta of eq. (7) */
+    double epsilon;     /* eq. (12): tangential velocity kept on contact */
+    double restitution; /* becker2009: delta of eq. (7) */
 } bnd_setup;
 
 /* What a method's per-particle terms read during one pass. */
@@ -44,13 +44,13 @@ typedef struct bnd_pass {
     krn_kernel k;
     const uint32_t *restrict fbs, *restrict fbi; /* fluid -> boundary rows */
     const sl_boundary *b;
-    void *state;          /* the method's own state */
+    void *state; /* the method's own state */
 } bnd_pass;
 
 typedef struct bnd_method_type {
-    const char *name;     /* as in constant/boundaryProperties */
-    const char *what;     /* one line for the log and -help */
-    int wall_density;     /* boundary density and pressure in the solve (eq. 13) */
+    const char *name; /* as in constant/boundaryProperties */
+    const char *what; /* one line for the log and -help */
+    int wall_density; /* boundary density and pressure in the solve (eq. 13) */
     /* The method's own state (NULL: none); per-fluid-particle arrays sized
      * for fluid capacity cap by reserve (called before every step, cheap
      * when nothing grew). */

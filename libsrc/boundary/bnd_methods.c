@@ -4,7 +4,7 @@
 #include <string.h>
 
 #define BND_TYPE_ADDRESS(m) &m##_method,
-#define BND_TYPE_NAME(m) #m,
+#define BND_TYPE_NAME(m)    #m,
 static const bnd_method_type *const all[] = {BND_METHODS(BND_TYPE_ADDRESS) NULL};
 static const char *const names[] = {BND_METHODS(BND_TYPE_NAME) NULL};
 

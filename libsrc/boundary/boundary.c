@@ -12,8 +12,7 @@ static double wall_sum(const krn_kernel *k, double r0, double zq)
 {
     double s = 0.0;
     for (int i = -4; i <= 4; i++)
-        for (int j = -4; j <= 4; j++)
-            s += krn_w(k, sqrt((i * i + j * j) * r0 * r0 + zq * zq));
+        for (int j = -4; j <= 4; j++) s += krn_w(k, sqrt((i * i + j * j) * r0 * r0 + zq * zq));
     return s;
 }
 
@@ -43,8 +42,8 @@ bnd_calibration bnd_calibrate(const krn_kernel *k, double r0, double mfluid, dou
     return c;
 }
 
-void bnd_set_mass(const nbr_grid *g, const krn_kernel *k, const bnd_calibration *c,
-                  double rho0, sl_boundary *b)
+void bnd_set_mass(const nbr_grid *g, const krn_kernel *k, const bnd_calibration *c, double rho0,
+                  sl_boundary *b)
 {
     nbr_list bb;
     nbr_list_init(&bb);

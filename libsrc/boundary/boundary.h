@@ -34,16 +34,16 @@
 #include "particles/particles.h"
 
 typedef struct bnd_calibration {
-    double gamma;       /* boundary mass factor */
-    double c_static;    /* factor of the boundary-boundary density */
-    double fluid_sum;   /* prototype: fluid contribution to the first layer */
+    double gamma;     /* boundary mass factor */
+    double c_static;  /* factor of the boundary-boundary density */
+    double fluid_sum; /* prototype: fluid contribution to the first layer */
 } bnd_calibration;
 
 /* The prototype calibration (see above). */
 bnd_calibration bnd_calibrate(const krn_kernel *k, double r0, double mfluid, double rho0);
 
 /* Set m_b and rho_static for all boundary particles; b must be sorted in g. */
-void bnd_set_mass(const nbr_grid *g, const krn_kernel *k, const bnd_calibration *c,
-                  double rho0, sl_boundary *b);
+void bnd_set_mass(const nbr_grid *g, const krn_kernel *k, const bnd_calibration *c, double rho0,
+                  sl_boundary *b);
 
 #endif

@@ -5,8 +5,7 @@
 
 #include "core/sl_mem.h"
 
-void bnd_wall_table_build(bnd_wall_table *t, const krn_kernel *k, double r0, double mass,
-                          size_t n)
+void bnd_wall_table_build(bnd_wall_table *t, const krn_kernel *k, double r0, double mass, size_t n)
 {
     const int reach = (int)ceil(k->h / r0) + 1, noff = 4;
     t->n = n;
@@ -41,8 +40,8 @@ void bnd_wall_table_free(bnd_wall_table *t)
 }
 
 size_t bnd_collide_harada(const nbr_list *fb, const sl_boundary *b, double r0, double epsilon,
-                          size_t n, double *x, double *y, double *z,
-                          double *vx, double *vy, double *vz)
+                          size_t n, double *x, double *y, double *z, double *vx, double *vy,
+                          double *vz)
 {
     size_t hits = 0;
 #pragma omp parallel for schedule(static) reduction(+ : hits)
@@ -108,7 +107,8 @@ static size_t collide(void *state, const bnd_setup *su, const nbr_list *fb, cons
 
 const bnd_method_type harada2007_method = {
     .name = "harada2007",
-    .what = "wall weight from the wall distance, no wall particles in the solve (Harada et al. 2007)",
+    .what =
+        "wall weight from the wall distance, no wall particles in the solve (Harada et al. 2007)",
     .wall_density = harada2007_wall_density,
     .init = init,
     .reserve = reserve,

@@ -31,21 +31,24 @@ typedef struct bnd_wall_table {
 
 typedef struct harada2007_state {
     bnd_wall_table wall;
-    double *wall_d;       /* per fluid particle: dZ/dd at its wall distance */
-    uint32_t *wall_b;     /* per fluid particle: nearest boundary particle (UINT32_MAX: none) */
+    double *wall_d;   /* per fluid particle: dZ/dd at its wall distance */
+    uint32_t *wall_b; /* per fluid particle: nearest boundary particle (UINT32_MAX: none) */
     size_t cap;
 } harada2007_state;
 
 /* Z(d) = m sum over a solid half-space lattice (spacing r0, layers at plane
  * distance 0, -r0, -2 r0, ...; averaged over in-plane offsets) of W. */
-void bnd_wall_table_build(bnd_wall_table *t, const krn_kernel *k, double r0, double mass,
-                          size_t n);
+void bnd_wall_table_build(bnd_wall_table *t, const krn_kernel *k, double r0, double mass, size_t n);
 void bnd_wall_table_free(bnd_wall_table *t);
 static inline void bnd_wall_lookup(const bnd_wall_table *t, double d, double *z, double *dz)
 {
     double u = d * t->inv_step;
     if (!(u > 0.0)) u = 0.0;
-    if (u >= (double)(t->n - 1)) { *z = 0.0; *dz = 0.0; return; }
+    if (u >= (double)(t->n - 1)) {
+        *z = 0.0;
+        *dz = 0.0;
+        return;
+    }
     size_t i = (size_t)u;
     double w = u - (double)i;
     *z = (1.0 - w) * t->z[i] + w * t->z[i + 1];
@@ -63,11 +66,14 @@ static inline uint32_t bnd_nearest(const uint32_t *fbs, const uint32_t *fbi, con
         uint32_t j = fbi[q];
         double dx = x - b->x[j], dy = y - b->y[j], dz = z - b->z[j];
         double r2 = dx * dx + dy * dy + dz * dz;
-        if (r2 < d2) { d2 = r2; best = j; }
+        if (r2 < d2) {
+            d2 = r2;
+            best = j;
+        }
     }
     if (best != UINT32_MAX)
         *plane_d = (x - b->x[best]) * b->nx[best] + (y - b->y[best]) * b->ny[best] +
-                   (z - b->z[best]) * b->nz[best];
+            (z - b->z[best]) * b->nz[best];
     return best;
 }
 
@@ -86,13 +92,15 @@ harada2007_density(const bnd_pass *c, size_t i, double x, double y, double z, do
 }
 
 /* -sum_w m_w 2 p_i / rho_i^2 grad W = -2 p_i / rho_i^2 dZ/dd n [HKK07] */
-static inline __attribute__((always_inline)) void
-harada2007_pressure(const bnd_pass *c, size_t i, double x, double y, double z, double pti,
-                    double a[3])
+static inline __attribute__((always_inline)) void harada2007_pressure(const bnd_pass *c, size_t i,
+                                                                      double x, double y, double z,
+                                                                      double pti, double a[3])
 {
     const harada2007_state *st = c->state;
     const uint32_t j = st->wall_b[i];
-    (void)x; (void)y; (void)z;
+    (void)x;
+    (void)y;
+    (void)z;
     if (j == UINT32_MAX) return;
     const double s = -2.0 * pti * st->wall_d[i];
     a[0] += s * c->b->nx[j];
@@ -101,7 +109,7 @@ harada2007_pressure(const bnd_pass *c, size_t i, double x, double y, double z, d
 }
 
 size_t bnd_collide_harada(const nbr_list *fb, const sl_boundary *b, double r0, double epsilon,
-                          size_t n, double *x, double *y, double *z,
-                          double *vx, double *vy, double *vz);
+                          size_t n, double *x, double *y, double *z, double *vx, double *vy,
+                          double *vz);
 
 #endif

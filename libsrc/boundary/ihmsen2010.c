@@ -3,9 +3,8 @@
 
 #include <math.h>
 
-size_t bnd_collide(const nbr_list *fb, const sl_boundary *b, double r0, double epsilon,
-                   size_t n, double *x, double *y, double *z,
-                   double *vx, double *vy, double *vz)
+size_t bnd_collide(const nbr_list *fb, const sl_boundary *b, double r0, double epsilon, size_t n,
+                   double *x, double *y, double *z, double *vx, double *vy, double *vz)
 {
     size_t hits = 0;
 #pragma omp parallel for schedule(static) reduction(+ : hits)
@@ -16,7 +15,7 @@ size_t bnd_collide(const nbr_list *fb, const sl_boundary *b, double r0, double e
             double dx = x[i] - b->x[j], dy = y[i] - b->y[j], dz = z[i] - b->z[j];
             double d = sqrt(dx * dx + dy * dy + dz * dz);
             double w = d < r0 ? (r0 - d) / r0 : 0.0; /* eq. (10) */
-            ncx += w * b->nx[j];                      /* eq. (9) */
+            ncx += w * b->nx[j];                     /* eq. (9) */
             ncy += w * b->ny[j];
             ncz += w * b->nz[j];
             sw += w;

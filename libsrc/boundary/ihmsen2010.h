@@ -20,14 +20,18 @@ enum { ihmsen2010_wall_density = 1 };
 static inline __attribute__((always_inline)) double
 ihmsen2010_density(const bnd_pass *c, size_t i, double x, double y, double z, double rb)
 {
-    (void)c; (void)i; (void)x; (void)y; (void)z;
+    (void)c;
+    (void)i;
+    (void)x;
+    (void)y;
+    (void)z;
     return rb;
 }
 
 /* eq. (6) over the boundary neighbours, with their pressures of eq. (13). */
-static inline __attribute__((always_inline)) void
-ihmsen2010_pressure(const bnd_pass *c, size_t i, double x, double y, double z, double pti,
-                    double a[3])
+static inline __attribute__((always_inline)) void ihmsen2010_pressure(const bnd_pass *c, size_t i,
+                                                                      double x, double y, double z,
+                                                                      double pti, double a[3])
 {
     const sl_boundary *b = c->b;
     sph_sum_pressure(c->k, c->fbi, c->fbs[i], c->fbs[i + 1], x, y, z, pti, b->x, b->y, b->z, b->pt,
@@ -37,8 +41,7 @@ ihmsen2010_pressure(const bnd_pass *c, size_t i, double x, double y, double z, d
 /* World collision, eq. (9)-(11) on positions (x, y, z) of the fluid, using
  * the fluid -> boundary lists; if vx != NULL also eq. (12) on velocities
  * with friction factor epsilon.  Returns the number of corrected particles. */
-size_t bnd_collide(const nbr_list *fb, const sl_boundary *b, double r0, double epsilon,
-                   size_t n, double *x, double *y, double *z,
-                   double *vx, double *vy, double *vz);
+size_t bnd_collide(const nbr_list *fb, const sl_boundary *b, double r0, double epsilon, size_t n,
+                   double *x, double *y, double *z, double *vx, double *vy, double *vz);
 
 #endif

@@ -91,10 +91,13 @@ static int choose(const dict *d, const char *key, const char *word, const char *
 
 /* ---- system/controlDict ---- */
 
-static const char *const control_keys[] = {
-    "application", "startFrom", "startTime", "endTime", "writeInterval", "writeControl", "writeFormat",
-    "writeCompression", "timePrecision", "purgeWrite", "numberOfThreads", "writeBoundary",
-    "functions", NULL};
+static const char *const control_keys[] = {"application",     "startFrom",
+                                           "startTime",       "endTime",
+                                           "writeInterval",   "writeControl",
+                                           "writeFormat",     "writeCompression",
+                                           "timePrecision",   "purgeWrite",
+                                           "numberOfThreads", "writeBoundary",
+                                           "functions",       NULL};
 
 static void read_controls(sl_case *c)
 {
@@ -115,8 +118,8 @@ static void read_controls(sl_case *c)
     need(dict_get_scalar(d, "writeInterval", &k->write_interval, &err), &err);
     positive(d, "writeInterval", k->write_interval);
     need(dict_get_word_or(d, "writeControl", "adjustableRunTime", &w, &err), &err);
-    k->write_control = choose(d, "writeControl", w, write_choices) ? CASE_RUN_TIME
-                                                                   : CASE_ADJUSTABLE_RUN_TIME;
+    k->write_control =
+        choose(d, "writeControl", w, write_choices) ? CASE_RUN_TIME : CASE_ADJUSTABLE_RUN_TIME;
     need(dict_get_word_or(d, "writeFormat", "binary", &w, &err), &err);
     k->ascii = choose(d, "writeFormat", w, format_choices);
     need(dict_get_bool_or(d, "writeCompression", 1, &k->compress, &err), &err);
@@ -132,8 +135,10 @@ static void read_controls(sl_case *c)
     k->nthreads = (int)l;
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     if (cores > 0 && l > cores)
-        warn_value(d, "numberOfThreads", "%ld threads on a machine with %ld cores run slower "
-                   "than %ld (0 uses all cores)", l, cores, cores);
+        warn_value(d, "numberOfThreads",
+                   "%ld threads on a machine with %ld cores run slower "
+                   "than %ld (0 uses all cores)",
+                   l, cores, cores);
     need(dict_get_bool_or(d, "writeBoundary", 1, &k->write_boundary, &err), &err);
     dict_free(d);
 }
@@ -151,9 +156,9 @@ static void read_timestep(sl_case *c)
 
 /* The keys of constant/fluidProperties besides the effects' own entries
  * (effects/: eff_fluid_effects). */
-static const char *const fluid_keys[] = {"rho0", "particleSpacing", "gravity", "eta",
-                                         "minIterations", "maxIterations", "fluidRegions",
-                                         "emitters", NULL};
+static const char *const fluid_keys[] = {"rho0",         "particleSpacing", "gravity",
+                                         "eta",          "minIterations",   "maxIterations",
+                                         "fluidRegions", "emitters",        NULL};
 
 /* fluid_keys and the names of the effects of constant/fluidProperties. */
 static const char **fluid_and_effect_keys(void)
@@ -170,9 +175,9 @@ static const char **fluid_and_effect_keys(void)
 
 static void read_shape_geometry(sl_case *c, const dict *s, geo_shape *g, geo_kind kind, int region);
 
-static const char *const region_keys[] = {"type", "min", "max", "centre", "radius", "point1",
-                                          "point2", "file", "scale", "rotate", "translate",
-                                          "velocity", "velocityField", NULL};
+static const char *const region_keys[] = {
+    "type", "min",   "max",    "centre",    "radius",   "point1",        "point2",
+    "file", "scale", "rotate", "translate", "velocity", "velocityField", NULL};
 
 /* A region's velocityField { }: an initial velocity field added to its
  * uniform velocity, for the verification cases (doc/verification.md):
@@ -191,7 +196,9 @@ static void read_velocity_field(const dict *r, case_region *g)
     sl_err err;
     const char *w;
     const dict *v = dict_sub(r, "velocityField");
-    if (!v) dict_fatal(r, "velocityField", "must be a dictionary { type taylorGreen; amplitude ..; length ..; }");
+    if (!v)
+        dict_fatal(r, "velocityField",
+                   "must be a dictionary { type taylorGreen; amplitude ..; length ..; }");
     dict_warn_unknown(v, keys);
     need(dict_get_word(v, "type", &w, &err), &err);
     g->field = 1 + choose(v, "type", w, types);
@@ -215,8 +222,8 @@ static void apply_velocity_field(const case_region *g, const double gravity[3], 
         }
     } else if (g->field == CASE_FIELD_STANDING_WAVE) {
         const double k = pi / g->field_length, H = g->shape.hi[2] - g->shape.lo[2];
-        const double gm = sqrt(gravity[0] * gravity[0] + gravity[1] * gravity[1] +
-                               gravity[2] * gravity[2]);
+        const double gm =
+            sqrt(gravity[0] * gravity[0] + gravity[1] * gravity[1] + gravity[2] * gravity[2]);
         const double w = sqrt(gm * k * tanh(k * H)), c = A * w / sinh(k * H);
         for (size_t i = from; i < f->n; i++) {
             const double x = f->x[i] - g->shape.lo[0], z = f->z[i] - g->shape.lo[2];
@@ -247,8 +254,8 @@ static void read_region(sl_case *c, const dict *r, const dict_entry *at)
     if (dict_has(r, "velocityField")) read_velocity_field(r, g);
 }
 
-static const char *const emitter_keys[] = {"type", "centre", "direction", "size", "radius",
-                                           "speed", "startTime", "endTime", NULL};
+static const char *const emitter_keys[] = {"type",  "centre",    "direction", "size", "radius",
+                                           "speed", "startTime", "endTime",   NULL};
 
 static void read_emitter(sl_case *c, const dict *e, const dict_entry *at)
 {
@@ -260,8 +267,8 @@ static void read_emitter(sl_case *c, const dict *e, const dict_entry *at)
     need(dict_get_word(e, "type", &w, &err), &err);
     int disc = choose(e, "type", w, types);
     c->emitters = sl_realloc(c->emitters, (c->nemitters + 1) * sizeof *c->emitters, "emitters");
-    c->emitter_where = sl_realloc(c->emitter_where, (c->nemitters + 1) * sizeof *c->emitter_where,
-                                  "emitters");
+    c->emitter_where =
+        sl_realloc(c->emitter_where, (c->nemitters + 1) * sizeof *c->emitter_where, "emitters");
     set_where(&c->emitter_where[c->nemitters], at);
     m = &c->emitters[c->nemitters++];
     memset(m, 0, sizeof *m);
@@ -292,17 +299,21 @@ static void read_emitter(sl_case *c, const dict *e, const dict_entry *at)
     need(dict_get_scalar_or(e, "endTime", INFINITY, &m->t1, &err), &err);
     if (!(m->t1 > m->t0)) {
         char why[160];
-        snprintf(why, sizeof why, "must be larger than the emitter's startTime (%g s): it would "
-                 "never emit", m->t0);
+        snprintf(why, sizeof why,
+                 "must be larger than the emitter's startTime (%g s): it would "
+                 "never emit",
+                 m->t0);
         bad_value(e, "endTime", why);
     }
     if (m->t0 >= c->ctl.end_time)
-        warn_value(e, "startTime", "%g s is at or after the run's endTime (%g s in "
-                   "system/controlDict): emitter '%s' never emits", m->t0, c->ctl.end_time,
-                   dict_name(e));
+        warn_value(e, "startTime",
+                   "%g s is at or after the run's endTime (%g s in "
+                   "system/controlDict): emitter '%s' never emits",
+                   m->t0, c->ctl.end_time, dict_name(e));
     m->rho0 = c->prm.rho0;
     if (emt_setup(m, c->prm.r0) == 0)
-        bad_value(e, disc ? "radius" : "size", "the opening holds no particle at this particleSpacing");
+        bad_value(e, disc ? "radius" : "size",
+                  "the opening holds no particle at this particleSpacing");
 }
 
 static void read_fluid(sl_case *c)
@@ -325,18 +336,22 @@ static void read_fluid(sl_case *c)
     double gn = sqrt(p->gravity[0] * p->gravity[0] + p->gravity[1] * p->gravity[1] +
                      p->gravity[2] * p->gravity[2]);
     if (gn > CASE_GRAVITY_WARN)
-        warn_value(d, "gravity", "|g| = %g m/s^2 is above %g m/s^2 (the Earth's is 9.81): "
-                   "wrong units (cm/s^2)?", gn, CASE_GRAVITY_WARN);
+        warn_value(d, "gravity",
+                   "|g| = %g m/s^2 is above %g m/s^2 (the Earth's is 9.81): "
+                   "wrong units (cm/s^2)?",
+                   gn, CASE_GRAVITY_WARN);
     need(dict_get_scalar_or(d, "eta", 1.0, &eta, &err), &err);
     if (!(eta > 0.0 && eta < 100.0))
         bad_value(d, "eta", "must be a percentage above 0 and below 100 (the paper uses 1)");
     if (eta > CASE_ETA_WARN)
-        warn_value(d, "eta", "%g %% of rho0 lets the fluid compress by that much (the paper "
+        warn_value(d, "eta",
+                   "%g %% of rho0 lets the fluid compress by that much (the paper "
                    "uses 1 %%; above %g %% it is no longer a liquid): is it a percentage?",
                    eta, CASE_ETA_WARN);
     p->eta = eta / 100.0;
     need(dict_get_int_or(d, "minIterations", 3, &l, &err), &err);
-    if (l < 1 || l > 1000) bad_value(d, "minIterations", "must be between 1 and 1000 (the paper uses 3)");
+    if (l < 1 || l > 1000)
+        bad_value(d, "minIterations", "must be between 1 and 1000 (the paper uses 3)");
     p->min_iter = (int)l;
     need(dict_get_int_or(d, "maxIterations", 100, &l, &err), &err);
     if (l < p->min_iter || l > 100000) {
@@ -380,12 +395,11 @@ static void read_fluid(sl_case *c)
 
 /* ---- constant/boundaryProperties ---- */
 
-static const char *const boundary_keys[] = {"method", "epsilon", "restitution", "geometry",
-                                            "periodic", NULL};
-static const char *const shape_keys[] = {"type", "min", "max", "centre", "radius", "open",
-                                         "point1", "point2", "origin", "edge1", "edge2",
-                                         "file", "scale", "rotate", "translate", "side",
-                                         "motion", NULL};
+static const char *const boundary_keys[] = {"method",   "epsilon",  "restitution",
+                                            "geometry", "periodic", NULL};
+static const char *const shape_keys[] = {
+    "type",  "min",   "max",  "centre", "radius", "open",      "point1", "point2", "origin",
+    "edge1", "edge2", "file", "scale",  "rotate", "translate", "side",   "motion", NULL};
 
 static unsigned read_open_faces(const dict *s)
 {
@@ -418,7 +432,8 @@ static void read_mesh(sl_case *c, const dict *s, geo_shape *g, int region)
     snprintf(path, len, "%s/constant/%s", c->dir, file); /* meshes live in constant/ */
     g->mesh = sl_malloc(sizeof *g->mesh, "mesh");
     mesh_init(g->mesh);
-    if (mesh_read(path, g->mesh, &err)) sl_fatal("%s (geometry '%s' in %s)", err.msg, g->name, dict_file(s));
+    if (mesh_read(path, g->mesh, &err))
+        sl_fatal("%s (geometry '%s' in %s)", err.msg, g->name, dict_file(s));
     if (dict_has(s, "scale")) {
         double sc[3];
         const dict_entry *e = dict_lookup(s, "scale");
@@ -470,7 +485,8 @@ static void read_shape_geometry(sl_case *c, const dict *s, geo_shape *g, geo_kin
         need(dict_get_vector(s, "origin", g->origin, &err), &err);
         need(dict_get_vector(s, "edge1", g->e1, &err), &err);
         need(dict_get_vector(s, "edge2", g->e2, &err), &err);
-        double n[3] = {g->e1[1] * g->e2[2] - g->e1[2] * g->e2[1], g->e1[2] * g->e2[0] - g->e1[0] * g->e2[2],
+        double n[3] = {g->e1[1] * g->e2[2] - g->e1[2] * g->e2[1],
+                       g->e1[2] * g->e2[0] - g->e1[0] * g->e2[2],
                        g->e1[0] * g->e2[1] - g->e1[1] * g->e2[0]};
         if (!(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] > 0))
             bad_value(s, "edge2", "must not be parallel to edge1 (or zero)");
@@ -485,14 +501,17 @@ static void read_shape_geometry(sl_case *c, const dict *s, geo_shape *g, geo_kin
     need(dict_get_vector(s, "min", g->lo, &err), &err);
     need(dict_get_vector(s, "max", g->hi, &err), &err);
     for (int k = 0; k < 3; k++)
-        if (!(g->hi[k] > g->lo[k])) bad_value(s, "max", "must be larger than min in every component");
+        if (!(g->hi[k] > g->lo[k]))
+            bad_value(s, "max", "must be larger than min in every component");
     if (g->kind == GEO_CONTAINER) g->open_faces = read_open_faces(s);
 }
 
 static void read_shape(sl_case *c, const dict *s)
 {
-    static const char *const types[] = {"container", "box", "sphere", "cylinder", "plane", "mesh", NULL};
-    static const geo_kind kinds[] = {GEO_CONTAINER, GEO_BOX, GEO_SPHERE, GEO_CYLINDER, GEO_PLANE, GEO_MESH};
+    static const char *const types[] = {"container", "box",  "sphere", "cylinder",
+                                        "plane",     "mesh", NULL};
+    static const geo_kind kinds[] = {GEO_CONTAINER, GEO_BOX,   GEO_SPHERE,
+                                     GEO_CYLINDER,  GEO_PLANE, GEO_MESH};
     sl_err err;
     const char *w;
     dict_warn_unknown(s, shape_keys);
@@ -503,7 +522,8 @@ static void read_shape(sl_case *c, const dict *s)
     memset(&c->motions[c->nshapes], 0, sizeof *c->motions);
     if (dict_has(s, "motion")) {
         const dict *m = dict_sub(s, "motion");
-        if (!m) bad_value(s, "motion", "must be a dictionary { type cosine|oscillating|table; ... }");
+        if (!m)
+            bad_value(s, "motion", "must be a dictionary { type cosine|oscillating|table; ... }");
         mot_read(&c->motions[c->nshapes], m, c->dir);
     }
     geo_shape *g = &c->shapes[c->nshapes++];
@@ -524,7 +544,8 @@ static void read_boundary(sl_case *c)
     if (!(c->prm.restitution >= 0.0 && c->prm.restitution <= 1.0))
         bad_value(d, "restitution", "must be in [0, 1]");
     need(dict_get_scalar_or(d, "epsilon", 1.0, &c->prm.epsilon, &err), &err);
-    if (!(c->prm.epsilon >= 0.0 && c->prm.epsilon <= 1.0)) bad_value(d, "epsilon", "must be in [0, 1]");
+    if (!(c->prm.epsilon >= 0.0 && c->prm.epsilon <= 1.0))
+        bad_value(d, "epsilon", "must be in [0, 1]");
     const dict *geo = dict_sub(d, "geometry");
     if (!geo) bad_value(d, "geometry", "a dictionary of boundary shapes is required");
     for (size_t i = 0; i < dict_size(geo); i++) {
@@ -548,24 +569,30 @@ static void periodic_extent(sl_case *c, const dict *d, int a)
     for (size_t s = 0; s < c->nshapes && !box; s++)
         if (c->shapes[s].kind == GEO_CONTAINER) box = &c->shapes[s];
     if (!box)
-        bad_value(d, "periodic", "needs a container (with open faces across the periodic axis) "
-                                 "to give the period");
+        bad_value(d, "periodic",
+                  "needs a container (with open faces across the periodic axis) "
+                  "to give the period");
     if ((box->open_faces & faces) != faces) {
-        snprintf(why, sizeof why, "axis %s: container '%s' has walls across it; open both faces "
-                 "(open (%sMin %sMax);) to make %s periodic", ax, box->name, ax, ax, ax);
+        snprintf(why, sizeof why,
+                 "axis %s: container '%s' has walls across it; open both faces "
+                 "(open (%sMin %sMax);) to make %s periodic",
+                 ax, box->name, ax, ax, ax);
         bad_value(d, "periodic", why);
     }
     const double lo = box->lo[a], hi = box->hi[a], len = hi - lo, r0 = c->prm.r0;
     const double k = len / r0;
     if (fabs(k - round(k)) > 1e-6 * fmax(k, 1.0)) {
-        snprintf(why, sizeof why, "axis %s: the period (container '%s', %g m) must be a whole "
-                 "number of particle spacings (%g m), here %.6g; make it %g or %g m", ax,
-                 box->name, len, r0, k, floor(k) * r0, ceil(k) * r0);
+        snprintf(why, sizeof why,
+                 "axis %s: the period (container '%s', %g m) must be a whole "
+                 "number of particle spacings (%g m), here %.6g; make it %g or %g m",
+                 ax, box->name, len, r0, k, floor(k) * r0, ceil(k) * r0);
         bad_value(d, "periodic", why);
     }
     if (len < 4.0 * r0 * (1.0 - 1e-9)) {
-        snprintf(why, sizeof why, "axis %s: the period (%g m) must be at least the support "
-                 "diameter 2 h = 4 particleSpacing (%g m)", ax, len, 4.0 * r0);
+        snprintf(why, sizeof why,
+                 "axis %s: the period (%g m) must be at least the support "
+                 "diameter 2 h = 4 particleSpacing (%g m)",
+                 ax, len, 4.0 * r0);
         bad_value(d, "periodic", why);
     }
     const double tol = 1e-9 * len;
@@ -573,14 +600,18 @@ static void periodic_extent(sl_case *c, const dict *d, int a)
         double slo[3], shi[3];
         if (&c->shapes[s] == box) continue;
         geo_bounds(&c->shapes[s], 0.0, slo, shi);
-        if (c->shapes[s].kind == GEO_PLANE) { slo[a] += r0; shi[a] -= r0; } /* geo_bounds pads planes */
+        if (c->shapes[s].kind == GEO_PLANE) {
+            slo[a] += r0;
+            shi[a] -= r0;
+        } /* geo_bounds pads planes */
         if (c->shapes[s].kind == GEO_CONTAINER && (c->shapes[s].open_faces & faces) == faces &&
             fabs(slo[a] - lo) <= tol && fabs(shi[a] - hi) <= tol)
             continue;
         if (slo[a] < lo - tol || shi[a] > hi + tol) {
-            snprintf(why, sizeof why, "axis %s: geometry '%s' (%g to %g) crosses the periodic "
-                     "face of container '%s' (%g to %g); keep it inside the period", ax,
-                     c->shapes[s].name, slo[a], shi[a], box->name, lo, hi);
+            snprintf(why, sizeof why,
+                     "axis %s: geometry '%s' (%g to %g) crosses the periodic "
+                     "face of container '%s' (%g to %g); keep it inside the period",
+                     ax, c->shapes[s].name, slo[a], shi[a], box->name, lo, hi);
             bad_value(d, "periodic", why);
         }
     }
@@ -627,7 +658,10 @@ const dict_key_home *case_key_homes(void)
     if (homes[0].where) return homes;
     const char **k = fluid_and_effect_keys();
     size_t n = 0;
-    while (k[n] && n + 1 < sizeof fluid / sizeof *fluid) { fluid[n] = k[n]; n++; }
+    while (k[n] && n + 1 < sizeof fluid / sizeof *fluid) {
+        fluid[n] = k[n];
+        n++;
+    }
     fluid[n] = NULL;
     free(k);
     homes[0] = (dict_key_home){"system/controlDict", control_keys};
@@ -693,7 +727,8 @@ static void check_size(const sl_case *c, const char *file, const char *what, con
     if (n > limit)
         sl_fatal("%s/%s: %s '%s' needs too many particles (about %.3g at particleSpacing %g; this "
                  "machine's memory holds about %.3g): is particleSpacing or the size in the "
-                 "wrong units?", c->dir, file, what, name, n, c->prm.r0, limit);
+                 "wrong units?",
+                 c->dir, file, what, name, n, c->prm.r0, limit);
 }
 
 /* "Sampling geometry 'glass' (2 of 5 parts)": what a long build is doing
@@ -714,7 +749,8 @@ static const char *container_names(const sl_case *c)
     for (size_t s = 0; s < c->nshapes && off < sizeof buf; s++) {
         const geo_shape *g = &c->shapes[s];
         if (g->kind == GEO_CONTAINER)
-            off += (size_t)snprintf(buf + off, sizeof buf - off, "%s'%s'", off ? ", " : "", g->name);
+            off +=
+                (size_t)snprintf(buf + off, sizeof buf - off, "%s'%s'", off ? ", " : "", g->name);
     }
     return buf;
 }
@@ -722,7 +758,8 @@ static const char *container_names(const sl_case *c)
 /* 1 if p, outside the box container g, lies beyond open faces only and
  * the jet (or gravity) carries it in through them: a tank filled from
  * above its open top. */
-static int pours_in(const geo_shape *g, const double p[3], const double dir[3], const double grav[3])
+static int pours_in(const geo_shape *g, const double p[3], const double dir[3],
+                    const double grav[3])
 {
     for (int d = 0; d < 3; d++) {
         unsigned fmin = 1u << (2 * d), fmax = 1u << (2 * d + 1);
@@ -759,7 +796,7 @@ static void check_emitter_place(const sl_case *c, size_t k)
             double p[3];
             for (int d = 0; d < 3; d++)
                 p[d] = m->centre[d] + m->pu[q] * m->u[d] + m->pv[q] * m->v[d] +
-                       ahead * c->prm.r0 * m->dir[d];
+                    ahead * c->prm.r0 * m->dir[d];
             size_t s = excluding_shape(c, m, p);
             if (s == c->nshapes) continue;
             const geo_shape *g = &c->shapes[s];
@@ -767,11 +804,13 @@ static void check_emitter_place(const sl_case *c, size_t k)
             if (ahead)
                 sl_fatal("%s: emitter '%s' points %s geometry '%s': one particleSpacing "
                          "downstream, (%g %g %g) is %s; turn its direction into the fluid space",
-                         c->emitter_where[k].text, m->name, outside ? "out of the container" : "into the solid",
-                         g->name, p[0], p[1], p[2], outside ? "beyond the walls" : "inside it");
+                         c->emitter_where[k].text, m->name,
+                         outside ? "out of the container" : "into the solid", g->name, p[0], p[1],
+                         p[2], outside ? "beyond the walls" : "inside it");
             sl_fatal("%s: emitter '%s' opens %s geometry '%s': its point (%g %g %g) is %s; move "
                      "its centre (or make it smaller) so that the whole opening is in the fluid "
-                     "space", c->emitter_where[k].text, m->name,
+                     "space",
+                     c->emitter_where[k].text, m->name,
                      outside ? "outside the container" : "inside the solid", g->name, p[0], p[1],
                      p[2], outside ? "beyond the walls" : "inside it");
         }
@@ -793,8 +832,9 @@ static void check_emitter_volume(const sl_case *c, size_t k)
     if (tank > 0.0 && vol > tank)
         sl_warning("%s: emitter '%s' delivers %.3g m^3 by t = %g s (%zu particles a layer, %g m/s) "
                    "but the containers (%s) hold %.3g m^3: the fluid will overflow; check speed, "
-                   "startTime and endTime", c->emitter_where[k].text, m->name, vol, t1, m->np,
-                   m->speed, container_names(c), tank);
+                   "startTime and endTime",
+                   c->emitter_where[k].text, m->name, vol, t1, m->np, m->speed, container_names(c),
+                   tank);
 }
 
 /* Particles [from, fluid.n) of region r that lie inside an earlier region:
@@ -812,9 +852,9 @@ static void check_overlap(const sl_case *c, size_t r, size_t from)
         if (inside)
             sl_fatal("%s: fluid region '%s' overlaps fluid region '%s' (%s): %zu of its %zu "
                      "particles lie inside '%s', where they would double the density; make the "
-                     "regions disjoint (or merge them)", c->regions[r].where.text,
-                     c->regions[r].name, c->regions[q].name, c->regions[q].where.text, inside,
-                     f->n - from, c->regions[q].name);
+                     "regions disjoint (or merge them)",
+                     c->regions[r].where.text, c->regions[r].name, c->regions[q].name,
+                     c->regions[q].where.text, inside, f->n - from, c->regions[q].name);
     }
 }
 
@@ -837,8 +877,8 @@ static void check_shape_place(const sl_case *c, size_t s, const double lo[3], co
     if (containers)
         sl_warning("%s/constant/boundaryProperties: geometry '%s' (%g %g %g)-(%g %g %g) lies "
                    "wholly outside the container (%s): no fluid can reach it; wrong translate, "
-                   "scale or units?", c->dir, g->name, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2],
-                   container_names(c));
+                   "scale or units?",
+                   c->dir, g->name, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], container_names(c));
 }
 
 void case_build(sl_case *c)
@@ -854,12 +894,14 @@ void case_build(sl_case *c)
                    estimate(lo, hi, r0, 1));
         if (c->motions[s].type == MOT_NONE) check_shape_place(c, s, lo, hi);
         if (c->shapes[s].kind == GEO_MESH) {
-            double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                               (hi[2] - lo[2]) * (hi[2] - lo[2]));
+            double diag =
+                sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                     (hi[2] - lo[2]) * (hi[2] - lo[2]));
             if (diag < 2.0 * r0)
-                sl_fatal("%s/constant/boundaryProperties: geometry '%s' is too small (%g m across) to "
-                         "sample with particleSpacing %g: wrong scale?", c->dir, c->shapes[s].name,
-                         diag, r0);
+                sl_fatal(
+                    "%s/constant/boundaryProperties: geometry '%s' is too small (%g m across) to "
+                    "sample with particleSpacing %g: wrong scale?",
+                    c->dir, c->shapes[s].name, diag, r0);
         }
     }
     for (size_t r = 0; r < c->nregions; r++) {
@@ -868,7 +910,10 @@ void case_build(sl_case *c)
         check_size(c, "constant/fluidProperties", "fluid region", c->regions[r].name,
                    estimate(lo, hi, r0, 0));
     }
-    for (int k = 0; k < 3; k++) { c->lo[k] = INFINITY; c->hi[k] = -INFINITY; }
+    for (int k = 0; k < 3; k++) {
+        c->lo[k] = INFINITY;
+        c->hi[k] = -INFINITY;
+    }
     for (size_t s = 0; s < c->nshapes; s++) {
         geo_shape *t = &c->shapes[s];
         /* A box thinner than 2 r0 would be sampled as one layer with
@@ -878,8 +923,8 @@ void case_build(sl_case *c)
             if (t->hi[d] - t->lo[d] < 2.0 * r0 * (1.0 - 1e-9)) {
                 double mid = 0.5 * (t->lo[d] + t->hi[d]);
                 sl_warning("%s/constant/boundaryProperties: box '%s' is %g m thick, less than two "
-                           "particle spacings: treated as %g m thick", c->dir, t->name,
-                           t->hi[d] - t->lo[d], 2.0 * r0);
+                           "particle spacings: treated as %g m thick",
+                           c->dir, t->name, t->hi[d] - t->lo[d], 2.0 * r0);
                 t->lo[d] = mid - r0;
                 t->hi[d] = mid + r0;
             }
@@ -897,7 +942,8 @@ void case_build(sl_case *c)
         if (geo_sample(g, r0, (uint32_t)s, &c->boundary) == 0 &&
             !(all_open && c->prm.periodic.axes)) /* a periodic box without walls */
             sl_fatal("%s/constant/boundaryProperties: geometry '%s' is too small to sample "
-                     "with particleSpacing %g", c->dir, g->name, r0);
+                     "with particleSpacing %g",
+                     c->dir, g->name, r0);
         geo_bounds(g, r0, lo, hi);
         grow_bounds(c->lo, c->hi, lo, hi);
     }
@@ -905,8 +951,8 @@ void case_build(sl_case *c)
         const case_region *g = &c->regions[r];
         build_status(&prog, "filling fluid region", g->name, c->nshapes + r, nparts);
         size_t lost = 0, from = c->fluid.n;
-        size_t n = geo_fill_region(&g->shape, r0, g->velocity, c->shapes, c->nshapes, &c->fluid,
-                                   &lost);
+        size_t n =
+            geo_fill_region(&g->shape, r0, g->velocity, c->shapes, c->nshapes, &c->fluid, &lost);
         if (lost)
             sl_fatal("%s: fluid region '%s' %s the container (%s): %zu of its particles would "
                      "lie beyond the walls and be dropped; make the region fit inside",
@@ -915,7 +961,8 @@ void case_build(sl_case *c)
         if (n == 0)
             sl_fatal("%s/constant/fluidProperties: fluid region '%s' holds no particle "
                      "(outside the container, inside an obstacle, or smaller than "
-                     "particleSpacing %g)", c->dir, g->name, r0);
+                     "particleSpacing %g)",
+                     c->dir, g->name, r0);
         check_overlap(c, r, from);
         apply_velocity_field(g, c->prm.gravity, &c->fluid, from);
         double lo[3], hi[3];
@@ -924,16 +971,23 @@ void case_build(sl_case *c)
     }
     for (size_t e = 0; e < c->nemitters; e++) {
         const emt_emitter *m = &c->emitters[e];
-        double reach = m->disc ? m->radius : 0.5 * sqrt(m->size[0] * m->size[0] + m->size[1] * m->size[1]);
+        double reach =
+            m->disc ? m->radius : 0.5 * sqrt(m->size[0] * m->size[0] + m->size[1] * m->size[1]);
         double lo[3], hi[3];
-        for (int k = 0; k < 3; k++) { lo[k] = m->centre[k] - reach; hi[k] = m->centre[k] + reach; }
+        for (int k = 0; k < 3; k++) {
+            lo[k] = m->centre[k] - reach;
+            hi[k] = m->centre[k] + reach;
+        }
         grow_bounds(c->lo, c->hi, lo, hi);
     }
     sl_progress_end(&prog);
     if (c->fluid.n > UINT32_MAX / 2 || c->boundary.n > UINT32_MAX / 2)
         sl_fatal("%s: too many particles (%zu fluid, %zu boundary)", c->dir, c->fluid.n,
                  c->boundary.n);
-    for (int k = 0; k < 3; k++) { c->lo[k] -= 2 * r0; c->hi[k] += 2 * r0; }
+    for (int k = 0; k < 3; k++) {
+        c->lo[k] -= 2 * r0;
+        c->hi[k] += 2 * r0;
+    }
     for (int k = 0; k < 3; k++) /* room for the periodic images (h beyond the faces) */
         if (c->prm.periodic.axes & (1u << k)) {
             c->lo[k] = fmin(c->lo[k], c->prm.periodic.lo[k] - 3 * r0);
@@ -949,9 +1003,15 @@ void case_free(sl_case *c)
     prt_fluid_free(&c->fluid);
     prt_boundary_free(&c->boundary);
     for (size_t i = 0; i < c->nshapes; i++)
-        if (c->shapes[i].mesh) { mesh_free(c->shapes[i].mesh); free(c->shapes[i].mesh); }
+        if (c->shapes[i].mesh) {
+            mesh_free(c->shapes[i].mesh);
+            free(c->shapes[i].mesh);
+        }
     for (size_t i = 0; i < c->nregions; i++)
-        if (c->regions[i].shape.mesh) { mesh_free(c->regions[i].shape.mesh); free(c->regions[i].shape.mesh); }
+        if (c->regions[i].shape.mesh) {
+            mesh_free(c->regions[i].shape.mesh);
+            free(c->regions[i].shape.mesh);
+        }
     for (size_t i = 0; i < c->nemitters; i++) emt_free(&c->emitters[i]);
     free(c->emitters);
     free(c->emitter_where);

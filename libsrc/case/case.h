@@ -45,12 +45,12 @@ typedef struct case_where {
 
 typedef struct case_region {
     char name[64];
-    case_where where;          /* of its entry in fluidRegions */
-    geo_shape shape;           /* box, sphere, cylinder or closed mesh */
+    case_where where; /* of its entry in fluidRegions */
+    geo_shape shape;  /* box, sphere, cylinder or closed mesh */
     double velocity[3];
     /* velocityField { type taylorGreen | standingWave; amplitude; length; }
      * added to velocity (verification cases, doc/verification.md) */
-    int field;                 /* CASE_FIELD_* */
+    int field; /* CASE_FIELD_* */
     double field_amplitude, field_length;
 } case_region;
 
@@ -59,11 +59,11 @@ enum { CASE_FIELD_NONE, CASE_FIELD_TAYLOR_GREEN, CASE_FIELD_STANDING_WAVE };
 typedef struct sl_case {
     char *dir;
     case_controls ctl;
-    ts_params ts;              /* system/timeStepDict */
+    ts_params ts; /* system/timeStepDict */
     pcs_params prm;
-    eff_set effects;           /* the effects the case names, in the order they act */
+    eff_set effects; /* the effects the case names, in the order they act */
     geo_shape *shapes;
-    mot_motion *motions;       /* one per shape; type MOT_NONE for static bodies */
+    mot_motion *motions; /* one per shape; type MOT_NONE for static bodies */
     size_t nshapes;
     case_region *regions;
     size_t nregions;
@@ -72,7 +72,7 @@ typedef struct sl_case {
     size_t nemitters;
     sl_fluid fluid;
     sl_boundary boundary;
-    double lo[3], hi[3];       /* scene bounds for the neighbour grid */
+    double lo[3], hi[3]; /* scene bounds for the neighbour grid */
 } sl_case;
 
 /* Read all dictionaries of the case in `dir`; exits with a clear error on

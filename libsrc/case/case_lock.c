@@ -26,7 +26,7 @@ static int same_file(int fd, const char *path)
 {
     struct stat a, b;
     return fstat(fd, &a) == 0 && stat(path, &b) == 0 && a.st_dev == b.st_dev &&
-           a.st_ino == b.st_ino;
+        a.st_ino == b.st_ino;
 }
 
 int case_lock_take(case_lock *l, const char *dir, sl_err *err)
@@ -38,7 +38,8 @@ int case_lock_take(case_lock *l, const char *dir, sl_err *err)
     for (int tries = 0; tries < 100; tries++) {
         int fd = open(l->path, O_RDWR | O_CREAT | O_CLOEXEC, 0666);
         if (fd < 0) {
-            sl_err_set(err, "cannot lock the case: cannot create '%s': %s", l->path, strerror(errno));
+            sl_err_set(err, "cannot lock the case: cannot create '%s': %s", l->path,
+                       strerror(errno));
             return 1;
         }
         if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
@@ -47,10 +48,11 @@ int case_lock_take(case_lock *l, const char *dir, sl_err *err)
             holder(fd, who, sizeof who);
             close(fd);
             if (e == EWOULDBLOCK)
-                sl_err_set(err, "case %s is being run by %s (lock %s): wait for it to end, or "
-                                "stop it (kill -INT <pid>: it writes and stops)", dir, who, l->path);
-            else
-                sl_err_set(err, "cannot lock the case '%s': %s", l->path, strerror(e));
+                sl_err_set(err,
+                           "case %s is being run by %s (lock %s): wait for it to end, or "
+                           "stop it (kill -INT <pid>: it writes and stops)",
+                           dir, who, l->path);
+            else sl_err_set(err, "cannot lock the case '%s': %s", l->path, strerror(e));
             return 1;
         }
         if (!same_file(fd, l->path)) { /* unlinked by the holder we waited for: again */
@@ -64,7 +66,8 @@ int case_lock_take(case_lock *l, const char *dir, sl_err *err)
         int len = snprintf(text, sizeof text, "pcisph (pid %ld on host %s since %s)\n",
                            (long)getpid(), host, stamp);
         if (ftruncate(fd, 0) != 0 || pwrite(fd, text, (size_t)len, 0) != len) {
-            sl_err_set(err, "cannot lock the case: cannot write '%s': %s", l->path, strerror(errno));
+            sl_err_set(err, "cannot lock the case: cannot write '%s': %s", l->path,
+                       strerror(errno));
             close(fd);
             return 1;
         }

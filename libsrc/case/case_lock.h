@@ -11,7 +11,7 @@
 #include "core/sl_log.h"
 
 typedef struct case_lock {
-    int fd;     /* -1 when not held */
+    int fd; /* -1 when not held */
     char *path;
 } case_lock;
 

@@ -50,7 +50,8 @@ void out_init(case_output *o, const sl_case *c, double start_time)
     for (size_t i = 0; i < l.n; i++)
         /* up to and including the start time: a restart does not rewrite
          * the folder it started from, and a new run replaces it */
-        if (l.time[i] <= start_time + 1e-12 * (1.0 + fabs(start_time))) push_time(o, l.time[i], l.name[i]);
+        if (l.time[i] <= start_time + 1e-12 * (1.0 + fabs(start_time)))
+            push_time(o, l.time[i], l.name[i]);
     tdir_list_free(&l);
 }
 
@@ -83,8 +84,8 @@ static int write_fluid(const char *path, const pcs_solver *s, const vtk_options 
         {"pressureRatio", 1, VTK_FLOAT64, {pr, NULL, NULL}},
         {"id", 1, VTK_UINT32, {f->id, NULL, NULL}},
     };
-    int rc = vtk_write_points(path, f->n, f->x, f->y, f->z, fields,
-                              sizeof fields / sizeof *fields, opt, err);
+    int rc = vtk_write_points(path, f->n, f->x, f->y, f->z, fields, sizeof fields / sizeof *fields,
+                              opt, err);
     sl_free_aligned(derr);
     sl_free_aligned(pr);
     return rc;
@@ -108,7 +109,8 @@ static sl_boundary real_boundary(const sl_boundary *b)
     return r;
 }
 
-static int write_boundary(const char *path, const pcs_solver *s, const vtk_options *opt, sl_err *err)
+static int write_boundary(const char *path, const pcs_solver *s, const vtk_options *opt,
+                          sl_err *err)
 {
     sl_boundary real;
     const sl_boundary *b = s->b;
@@ -123,8 +125,8 @@ static int write_boundary(const char *path, const pcs_solver *s, const vtk_optio
         {"mass", 1, VTK_FLOAT64, {b->mass, NULL, NULL}},
         {"body", 1, VTK_UINT32, {b->body, NULL, NULL}},
     };
-    int rc = vtk_write_points(path, b->n, b->x, b->y, b->z, fields,
-                              sizeof fields / sizeof *fields, opt, err);
+    int rc = vtk_write_points(path, b->n, b->x, b->y, b->z, fields, sizeof fields / sizeof *fields,
+                              opt, err);
     if (b == &real) prt_boundary_free(&real);
     return rc;
 }
@@ -241,7 +243,7 @@ int out_write(case_output *o, const pcs_solver *s, double t, const pcs_snapshot 
     if (rc) {
         remove_dir(tmp);
     } else {
-        if (o->n && o->times[o->n - 1] >= t) { /* rewritten time: replace */
+        if (o->n && o->times[o->n - 1] >= t) {      /* rewritten time: replace */
             if (strcmp(o->names[o->n - 1], name)) { /* under another name: that one goes */
                 char *old = join(o->c->dir, o->names[o->n - 1]);
                 remove_dir(old);
@@ -254,6 +256,9 @@ int out_write(case_output *o, const pcs_solver *s, double t, const pcs_snapshot 
         purge(o);
         rc = write_collections(o, err);
     }
-    free(dir); free(tmp); free(fpath); free(bpath);
+    free(dir);
+    free(tmp);
+    free(fpath);
+    free(bpath);
     return rc;
 }

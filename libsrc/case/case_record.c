@@ -18,8 +18,7 @@ static double rec_wall(void)
 
 void rec_flush(case_record *r)
 {
-    if (r->f && fflush(r->f) != 0)
-        sl_warning("could not write '%s': %s", r->path, strerror(errno));
+    if (r->f && fflush(r->f) != 0) sl_warning("could not write '%s': %s", r->path, strerror(errno));
     r->flushed = rec_wall();
 }
 
@@ -35,32 +34,34 @@ void rec_open(case_record *r, const sl_case *c, const char *tname)
     free(dir);
     r->f = fopen(r->path, "w");
     if (!r->f) sl_fatal("cannot write '%s': %s", r->path, strerror(errno));
-    fprintf(r->f, "# Time step record (Sluice pcisph)\n"
-                  "# rhoErr: compression max(rho - rho0, 0) / rho0 in percent, after the last "
-                  "PCISPH iteration\n"
-                  "# Fmax: largest force per unit mass (m/s^2)\n"
-                  "# shock 1: the step was discarded, the run went back two steps\n"
-                  "# controllerDeltaT: the controller's step after this one\n"
-                  "# volErr: the same compression with the wall's density from the boundary "
-                  "particles of eq. (13), whatever the boundary method (= rhoErr for "
-                  "ihmsen2010)\n"
-                  "# Time\tdeltaT\titerations\trhoErrAvg\trhoErrMax\tvMax\tFMax\tshock\twallTime"
-                  "\tcontrollerDeltaT\tvolErrAvg\tvolErrMax\n");
+    fprintf(r->f,
+            "# Time step record (Sluice pcisph)\n"
+            "# rhoErr: compression max(rho - rho0, 0) / rho0 in percent, after the last "
+            "PCISPH iteration\n"
+            "# Fmax: largest force per unit mass (m/s^2)\n"
+            "# shock 1: the step was discarded, the run went back two steps\n"
+            "# controllerDeltaT: the controller's step after this one\n"
+            "# volErr: the same compression with the wall's density from the boundary "
+            "particles of eq. (13), whatever the boundary method (= rhoErr for "
+            "ihmsen2010)\n"
+            "# Time\tdeltaT\titerations\trhoErrAvg\trhoErrMax\tvMax\tFMax\tshock\twallTime"
+            "\tcontrollerDeltaT\tvolErrAvg\tvolErrMax\n");
     rec_flush(r);
 }
 
 void rec_step(case_record *r, double t, double dt, const pcs_stats *st, int shock, double wall,
               double dt_next)
 {
-    fprintf(r->f, "%.10g\t%.17g\t%d\t%.6g\t%.6g\t%.6g\t%.6g\t%d\t%.6g\t%.17g\t%.6g\t%.6g\n", t,
-            dt, st->iterations, 100 * st->err_avg, 100 * st->err_max, st->vmax, st->fmax, shock,
-            wall, dt_next, 100 * st->vol_avg, 100 * st->vol_max);
+    fprintf(r->f, "%.10g\t%.17g\t%d\t%.6g\t%.6g\t%.6g\t%.6g\t%d\t%.6g\t%.17g\t%.6g\t%.6g\n", t, dt,
+            st->iterations, 100 * st->err_avg, 100 * st->err_max, st->vmax, st->fmax, shock, wall,
+            dt_next, 100 * st->vol_avg, 100 * st->vol_max);
     if (rec_wall() - r->flushed >= REC_FLUSH_SECONDS) rec_flush(r);
 }
 
 void rec_close(case_record *r)
 {
-    if (r->f && fclose(r->f) != 0) sl_warning("could not finish '%s': %s", r->path, strerror(errno));
+    if (r->f && fclose(r->f) != 0)
+        sl_warning("could not finish '%s': %s", r->path, strerror(errno));
     free(r->path);
     r->f = NULL;
     r->path = NULL;

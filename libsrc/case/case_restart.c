@@ -11,7 +11,7 @@
 #include <zlib.h>
 
 #define RST_FAMILY "SLUICE-RESTART-"
-#define RST_MAGIC RST_FAMILY "2"
+#define RST_MAGIC  RST_FAMILY "2"
 
 typedef struct rst_header {
     char magic[16];
@@ -137,9 +137,10 @@ static rst_status rst_read_body(gzFile g, const char *path, pcs_snapshot *snaps,
     }
     if (memcmp(h.magic, RST_MAGIC, sizeof h.magic)) {
         int other = !memcmp(h.magic, RST_FAMILY, strlen(RST_FAMILY));
-        sl_err_set(err, other ? "restart file '%s' was written by another version of Sluice "
-                                "(format %.1s, this one reads " RST_MAGIC ")"
-                              : "restart file '%s' is damaged (no Sluice restart header)%.0s",
+        sl_err_set(err,
+                   other ? "restart file '%s' was written by another version of Sluice "
+                           "(format %.1s, this one reads " RST_MAGIC ")"
+                         : "restart file '%s' is damaged (no Sluice restart header)%.0s",
                    path, h.magic + strlen(RST_FAMILY));
         return other ? RST_OTHER_VERSION : RST_DAMAGED;
     }
@@ -149,8 +150,9 @@ static rst_status rst_read_body(gzFile g, const char *path, pcs_snapshot *snaps,
         return RST_DAMAGED;
     }
     if (ctrl && h.ctrl_size != ctrl_size) {
-        sl_err_set(err, "restart file '%s' was written for a different case (%llu bytes of run "
-                        "state, this case has %zu: emitters added or removed?)",
+        sl_err_set(err,
+                   "restart file '%s' was written for a different case (%llu bytes of run "
+                   "state, this case has %zu: emitters added or removed?)",
                    path, (unsigned long long)h.ctrl_size, ctrl_size);
         return RST_MISMATCH;
     }
@@ -180,8 +182,10 @@ rst_status rst_read(const char *dir, pcs_snapshot *snaps, int max, int *nsnaps, 
     errno = 0;
     gzFile g = gzopen(path, "rb");
     if (!g) {
-        sl_err_set(err, "cannot open restart file '%s': %s (was this time written by an older "
-                        "Sluice, or by hand?)", path, strerror(errno ? errno : ENOMEM));
+        sl_err_set(err,
+                   "cannot open restart file '%s': %s (was this time written by an older "
+                   "Sluice, or by hand?)",
+                   path, strerror(errno ? errno : ENOMEM));
         free(path);
         return RST_MISSING;
     }

@@ -61,8 +61,8 @@ int cf_time_has_input(const char *time_dir)
     int input = 0;
     if (!d) return 0;
     while (!input && (de = readdir(d)))
-        input = strcmp(de->d_name, ".") && strcmp(de->d_name, "..") &&
-                !cf_is_output_file(de->d_name);
+        input =
+            strcmp(de->d_name, ".") && strcmp(de->d_name, "..") && !cf_is_output_file(de->d_name);
     closedir(d);
     return input;
 }
@@ -166,8 +166,11 @@ char *cf_record_path(const char *case_dir, sl_err *err)
         }
         tdir_list_free(&l);
     }
-    if (!path) sl_err_set(err, "%s: no per-step record postProcessing/timeStep/*/timeStep.dat "
-                               "(has the case been run?)", case_dir);
+    if (!path)
+        sl_err_set(err,
+                   "%s: no per-step record postProcessing/timeStep/*/timeStep.dat "
+                   "(has the case been run?)",
+                   case_dir);
     free(dir);
     return path;
 }
@@ -200,8 +203,10 @@ int cf_record_read(const char *case_dir, cf_table *t, char **folders, char **new
     if (!cf_is_dir(dir) || tdir_list_read(dir, "timeStep.dat", &l, &ignore) || l.n == 0) {
         if (cf_is_dir(dir)) tdir_list_free(&l);
         free(dir);
-        sl_err_set(err, "%s: no per-step record postProcessing/timeStep/*/timeStep.dat (has the "
-                        "case been run?)", case_dir);
+        sl_err_set(err,
+                   "%s: no per-step record postProcessing/timeStep/*/timeStep.dat (has the "
+                   "case been run?)",
+                   case_dir);
         return 1;
     }
     size_t len = 64;
@@ -232,8 +237,10 @@ int cf_record_read(const char *case_dir, cf_table *t, char **folders, char **new
     }
     if (folders) {
         *folders = sl_malloc(len + 64, "record folders");
-        snprintf(*folders, len + 64, l.n > 1 ? "postProcessing/timeStep/{%s}/timeStep.dat"
-                                             : "postProcessing/timeStep/%s/timeStep.dat", names);
+        snprintf(*folders, len + 64,
+                 l.n > 1 ? "postProcessing/timeStep/{%s}/timeStep.dat"
+                         : "postProcessing/timeStep/%s/timeStep.dat",
+                 names);
     }
     free(names);
     tdir_list_free(&l);

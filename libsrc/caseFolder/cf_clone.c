@@ -29,8 +29,7 @@ static int cf_copy_time_inputs(const char *src, const char *dst, sl_err *err)
         return 1;
     }
     while (!rc && (de = readdir(d))) {
-        if (!strcmp(de->d_name, ".") || !strcmp(de->d_name, "..") ||
-            cf_is_output_file(de->d_name))
+        if (!strcmp(de->d_name, ".") || !strcmp(de->d_name, "..") || cf_is_output_file(de->d_name))
             continue;
         char *s = cf_join(src, de->d_name), *t = cf_join(dst, de->d_name);
         rc = cf_copy_tree(s, t, err);
@@ -60,7 +59,8 @@ static int cf_clone_entry(const char *src, const char *dst, const char *name, in
             ++*copied;
         }
         break;
-    default: break; /* results, logs, hidden files */
+    default:
+        break; /* results, logs, hidden files */
     }
     free(s);
     free(t);

@@ -15,7 +15,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char cf_plot_missing[] = "gnuplot is not installed (Debian: apt-get install gnuplot-nox)";
+static const char cf_plot_missing[] =
+    "gnuplot is not installed (Debian: apt-get install gnuplot-nox)";
 
 /* The pipes open now and their gnuplots (a tool draws one plot at a time). */
 enum { CF_PLOT_MAX = 4 };

@@ -20,8 +20,7 @@ typedef struct sl_err {
     char msg[SL_ERR_LEN];
 } sl_err;
 
-void sl_err_set(sl_err *e, const char *fmt, ...)
-    __attribute__((format(printf, 2, 3)));
+void sl_err_set(sl_err *e, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 void sl_info(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 void sl_warning(const char *fmt, ...) __attribute__((format(printf, 1, 2)));

@@ -53,11 +53,13 @@ static int sl_proc_check_start(const sl_proc *p, pid_t pid, int report, sl_err *
     if (n != (ssize_t)sizeof msg) return 0; /* closed by exec: running */
     while (waitpid(pid, &st, 0) < 0 && errno == EINTR) continue;
     const char *what = msg[0] == SL_PROC_DIR ? "cannot enter"
-                       : msg[0] == SL_PROC_LOG ? "cannot write its log"
-                       : msg[0] == SL_PROC_INPUT ? "cannot read its input" : "cannot run";
-    const char *obj = msg[0] == SL_PROC_DIR ? p->dir
-                      : msg[0] == SL_PROC_LOG ? p->log
-                      : msg[0] == SL_PROC_INPUT && p->input ? p->input : p->argv[0];
+        : msg[0] == SL_PROC_LOG              ? "cannot write its log"
+        : msg[0] == SL_PROC_INPUT            ? "cannot read its input"
+                                             : "cannot run";
+    const char *obj = msg[0] == SL_PROC_DIR   ? p->dir
+        : msg[0] == SL_PROC_LOG               ? p->log
+        : msg[0] == SL_PROC_INPUT && p->input ? p->input
+                                              : p->argv[0];
     if (msg[0] == SL_PROC_EXEC) sl_err_set(err, "cannot run %s: %s", obj, strerror(msg[1]));
     else sl_err_set(err, "%s: %s '%s': %s", p->argv[0], what, obj, strerror(msg[1]));
     return -1;
@@ -113,10 +115,7 @@ int sl_proc_run(const sl_proc *p, int *status, sl_err *err)
     return sl_proc_wait(pid, status, 0, err) < 0 ? -1 : 0;
 }
 
-int sl_proc_ok(int status)
-{
-    return WIFEXITED(status) && WEXITSTATUS(status) == 0;
-}
+int sl_proc_ok(int status) { return WIFEXITED(status) && WEXITSTATUS(status) == 0; }
 
 void sl_proc_describe(int status, char *buf, size_t len)
 {

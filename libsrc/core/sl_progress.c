@@ -7,7 +7,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#define SL_PROGRESS_TAU 10.0    /* s: time constant of the rate's smoothing */
+#define SL_PROGRESS_TAU    10.0 /* s: time constant of the rate's smoothing */
 #define SL_PROGRESS_SAMPLE 0.5  /* s: shortest interval a rate is measured over */
 #define SL_PROGRESS_REDRAW 0.25 /* s: shortest interval between terminal redraws */
 

@@ -23,12 +23,12 @@ typedef enum { SL_PROGRESS_OFF, SL_PROGRESS_LINE, SL_PROGRESS_PLAIN } sl_progres
 typedef struct sl_progress {
     FILE *out;
     sl_progress_mode mode;
-    double period;             /* plain lines: seconds between them */
-    double done0, total;       /* work at the start, and when finished */
-    double wall0, last_print;  /* wall clock (s) at the start and last print */
+    double period;            /* plain lines: seconds between them */
+    double done0, total;      /* work at the start, and when finished */
+    double wall0, last_print; /* wall clock (s) at the start and last print */
     double sample_wall, sample_done;
-    double rate;               /* smoothed work per wall second; 0 until known */
-    size_t shown;              /* length of the line on the terminal */
+    double rate;  /* smoothed work per wall second; 0 until known */
+    size_t shown; /* length of the line on the terminal */
 } sl_progress;
 
 /* Start: `done0` of `total` is done; plain lines every `period` s. */
@@ -44,7 +44,6 @@ double sl_progress_elapsed(const sl_progress *p);
 /* "45 s", "3 min 05 s", "2 h 07 min"; "?" for a negative or huge time. */
 void sl_progress_duration(double seconds, char *buf, size_t len);
 /* The status text: "<what>  31.0 %  2.1 units/s  ETA 1 min 05 s". */
-void sl_progress_text(const sl_progress *p, double done, const char *what, char *buf,
-                      size_t len);
+void sl_progress_text(const sl_progress *p, double done, const char *what, char *buf, size_t len);
 
 #endif

@@ -14,7 +14,8 @@ double sl_sum(const double *a, size_t n)
         size_t b1 = b0 + CHUNK < nb ? b0 + CHUNK : nb;
 #pragma omp parallel for schedule(static)
         for (size_t b = b0; b < b1; b++) {
-            size_t lo = b * SL_REDUCE_BLOCK, hi = lo + SL_REDUCE_BLOCK < n ? lo + SL_REDUCE_BLOCK : n;
+            size_t lo = b * SL_REDUCE_BLOCK,
+                   hi = lo + SL_REDUCE_BLOCK < n ? lo + SL_REDUCE_BLOCK : n;
             double s = 0.0;
             for (size_t i = lo; i < hi; i++) s += a[i];
             part[b - b0] = s;

@@ -50,7 +50,7 @@ static int dedit_same_file(const char *a, const char *b)
 {
     struct stat sa, sb;
     return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
-           sa.st_ino == sb.st_ino;
+        sa.st_ino == sb.st_ino;
 }
 
 static char *dedit_strndup(const char *s, size_t n)
@@ -132,8 +132,9 @@ const dict_entry *dedit_lookup(const dict *d, const char *path, sl_err *err)
                            near ? "; did you mean '" : "", near ? near : "", near ? "'?" : "",
                            keys);
             else
-                sl_err_set(err, "%s: no entry '%s': dictionary '%.*s' has no keyword '%s'%s%s%s "
-                                "(keywords: %s)",
+                sl_err_set(err,
+                           "%s: no entry '%s': dictionary '%.*s' has no keyword '%s'%s%s%s "
+                           "(keywords: %s)",
                            dict_file(d), path, (int)(part - p - 1), p, part,
                            near ? "; did you mean '" : "", near ? near : "", near ? "'?" : "",
                            keys);
@@ -181,8 +182,9 @@ static int dedit_inside(const dict_entry *in, const dict_entry *e)
 
 static int dedit_copy_error(const char *path, const dict_entry *e, sl_err *err)
 {
-    sl_err_set(err, "'%s' is a copy made by a $-macro of the entry written at %s:%d: edit it "
-                    "there, or set the dictionary holding it as a whole",
+    sl_err_set(err,
+               "'%s' is a copy made by a $-macro of the entry written at %s:%d: edit it "
+               "there, or set the dictionary holding it as a whole",
                path, dict_entry_file(e), dict_entry_line(e));
     return 1;
 }
@@ -190,8 +192,8 @@ static int dedit_copy_error(const char *path, const dict_entry *e, sl_err *err)
 /* 1 if a dictionary entry of d that is not one of e's ancestors (nor a copy
  * of one, with the same span) holds e's text: e is then a copy that a
  * `$sub;` merge made of an entry of that dictionary. */
-static int dedit_held_elsewhere(const dict *d, const dict_entry *e,
-                                const dict_entry *const *anc, size_t nanc)
+static int dedit_held_elsewhere(const dict *d, const dict_entry *e, const dict_entry *const *anc,
+                                size_t nanc)
 {
     long b, en, db, de, ab, ae;
     dict_entry_span(e, &b, &en);
@@ -214,8 +216,7 @@ static int dedit_held_elsewhere(const dict *d, const dict_entry *e,
 
 /* 0 if e (found at path in d) is written where its span says, so that a
  * splice there edits this entry only. */
-static int dedit_check_origin(const dict *d, const char *path, const dict_entry *e,
-                              sl_err *err)
+static int dedit_check_origin(const dict *d, const char *path, const dict_entry *e, sl_err *err)
 {
     const dict_entry **anc = sl_malloc((strlen(path) + 1) * sizeof *anc, "entries");
     size_t nanc = 0;
@@ -271,24 +272,22 @@ static int dedit_write(const char *path, const char *text, size_t n, afile *a, i
 }
 
 /* The edited dictionary d (the value file read as `file`) against ex. */
-static int dedit_verify(const dict *d, const char *file, const dedit_expect *ex,
-                        const char *value, sl_err *err)
+static int dedit_verify(const dict *d, const char *file, const dedit_expect *ex, const char *value,
+                        sl_err *err)
 {
     const dict_entry *e;
     long b, en;
     if (!ex->present) return 0;
     e = dict_lookup(d, ex->path);
     if (e) dict_entry_span(e, &b, &en);
-    if (e && dedit_same_file(dict_entry_file(e), file) && b == ex->begin && en == ex->end)
-        return 0;
+    if (e && dedit_same_file(dict_entry_file(e), file) && b == ex->begin && en == ex->end) return 0;
     if (e) {
         char *v = dict_entry_value_text(e);
         sl_err_set(err, "'%s' is not one value for '%s': the entry would read '%s'", value,
                    ex->path, v);
         free(v);
     } else {
-        sl_err_set(err, "'%s' is not one value for '%s': the entry would be lost", value,
-                   ex->path);
+        sl_err_set(err, "'%s' is not one value for '%s': the entry would be lost", value, ex->path);
     }
     return 1;
 }
@@ -296,8 +295,8 @@ static int dedit_verify(const dict *d, const char *file, const dedit_expect *ex,
 /* Applies sp to its file: for the top file the edited text is parsed from
  * the temp file before the rename; an included file is replaced first, the
  * top file parsed again, and the old text put back if that fails. */
-static int dedit_apply(const char *top, dedit_splice *sp, const dedit_expect *ex,
-                       const char *value, sl_err *err)
+static int dedit_apply(const char *top, dedit_splice *sp, const dedit_expect *ex, const char *value,
+                       sl_err *err)
 {
     size_t n;
     char *text = dedit_spliced(sp, &n), *real = realpath(sp->file, NULL);
@@ -329,8 +328,9 @@ static int dedit_apply(const char *top, dedit_splice *sp, const dedit_expect *ex
         rc = dedit_write(real, text, n, &a, 1, err);
         if (!rc) {
             d = dict_read_file(top, &perr);
-            if (!d) sl_err_set(err, "the edit of %s would make %s unreadable: %s", sp->file,
-                               top, perr.msg);
+            if (!d)
+                sl_err_set(err, "the edit of %s would make %s unreadable: %s", sp->file, top,
+                           perr.msg);
             rc = d ? dedit_verify(d, real, ex, value, err) : 1;
             dict_free(d);
             if (rc) {
@@ -358,8 +358,8 @@ static char *dedit_trim(const char *v)
 }
 
 /* Replace the value of the existing entry e. */
-static int dedit_replace(const char *top, const char *path, const dict_entry *e,
-                         const char *value, dedit_change *ch, sl_err *err)
+static int dedit_replace(const char *top, const char *path, const dict_entry *e, const char *value,
+                         dedit_change *ch, sl_err *err)
 {
     dedit_splice sp = {0};
     dedit_expect ex = {path, 1, 0, 0};
@@ -408,8 +408,8 @@ static void dedit_layout(const dedit_splice *sp, const dict_entry *e, char *inde
 /* The text of a new entry: prefix (line break, indentation), key, padding
  * to value_col (< 0: one space), value, `;` and `end`; *value_at is where
  * the value starts in it. */
-static char *dedit_new_entry(const char *prefix, const char *key, int value_col,
-                             const char *value, const char *end, long *value_at)
+static char *dedit_new_entry(const char *prefix, const char *key, int value_col, const char *value,
+                             const char *end, long *value_at)
 {
     char *buf = NULL;
     size_t len = 0;
@@ -447,8 +447,7 @@ static const dict_entry *dedit_last_in(const dict *scope, const char *file)
 /* Where a new entry of the dictionary `parent` goes: on its own line before
  * the closing brace, or before the brace of a one-line `name { a 1; }`. */
 static void dedit_place_in_dict(dedit_splice *sp, const dict_entry *parent, const char *indent,
-                                int value_col, const char *key, const char *value,
-                                long *value_at)
+                                int value_col, const char *key, const char *value, long *value_at)
 {
     long pb, close, ls;
     dict_entry_span(parent, &pb, &close);
@@ -467,8 +466,7 @@ static void dedit_place_in_dict(dedit_splice *sp, const dict_entry *parent, cons
 /* Where a new top-level entry goes: on the line after the last top-level
  * entry written in the file, or at the end of a file holding none. */
 static void dedit_place_at_top(dedit_splice *sp, const dict_entry *last, const char *indent,
-                               int value_col, const char *key, const char *value,
-                               long *value_at)
+                               int value_col, const char *key, const char *value, long *value_at)
 {
     char prefix[300];
     long at = (long)sp->n;
@@ -478,8 +476,7 @@ static void dedit_place_at_top(dedit_splice *sp, const dict_entry *last, const c
         at = dedit_line_end(sp->text, sp->n, dedit_entry_end(sp->text, sp->n, en));
         if ((size_t)at < sp->n) at++;
     }
-    snprintf(prefix, sizeof prefix, "%s%s",
-             at > 0 && sp->text[at - 1] != '\n' ? "\n" : "", indent);
+    snprintf(prefix, sizeof prefix, "%s%s", at > 0 && sp->text[at - 1] != '\n' ? "\n" : "", indent);
     sp->begin = sp->end = at;
     sp->with = dedit_new_entry(prefix, key, value_col, value, "\n", value_at);
 }
@@ -487,8 +484,7 @@ static void dedit_place_at_top(dedit_splice *sp, const dict_entry *last, const c
 /* Add `key value;` at the end of the dictionary `parent` (NULL: the top
  * level of the file `top`). */
 static int dedit_add(const char *top, const dict *d, const char *path, const char *key,
-                     const dict_entry *parent, const char *value, dedit_change *ch,
-                     sl_err *err)
+                     const dict_entry *parent, const char *value, dedit_change *ch, sl_err *err)
 {
     dedit_splice sp = {0};
     dedit_expect ex = {path, 1, 0, 0};
@@ -558,8 +554,7 @@ static int dedit_parent_for_add(const dict *d, const char *file, const char *pat
     return rc;
 }
 
-int dedit_set(const char *file, const char *path, const char *value, dedit_change *ch,
-              sl_err *err)
+int dedit_set(const char *file, const char *path, const char *value, dedit_change *ch, sl_err *err)
 {
     dedit_change dummy;
     const dict_entry *e, *parent;

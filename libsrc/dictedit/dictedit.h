@@ -33,8 +33,7 @@ typedef struct dedit_change {
  * (OpenFOAM syntax: "0.5", "(0 0 -9.81)", "\"a b\"", "{ a 1; }").  A missing
  * entry is added at the end of its dictionary, which must exist.  The value
  * must be one value: "1; b 2" is refused.  0, or nonzero with err filled. */
-int dedit_set(const char *file, const char *path, const char *value, dedit_change *ch,
-              sl_err *err);
+int dedit_set(const char *file, const char *path, const char *value, dedit_change *ch, sl_err *err);
 
 /* dedit_set on `file` (a path inside the folder `root`, e.g. a case or a
  * clone of one), refused when the change would land outside root: when the

@@ -44,9 +44,11 @@ int dedit_set_inside(const char *root, const char *file, const char *path, const
     }
     size_t n = strlen(rr);
     if (strncmp(ro, rr, n) != 0 || ro[n] != '/') {
-        sl_err_set(err, "'%s' of %s is written in %s, outside %s (an #include of a shared file, "
-                        "or a symlink): setting it would change that file for every case; copy "
-                        "it into the case", path, file, owner, root);
+        sl_err_set(err,
+                   "'%s' of %s is written in %s, outside %s (an #include of a shared file, "
+                   "or a symlink): setting it would change that file for every case; copy "
+                   "it into the case",
+                   path, file, owner, root);
         free(owner);
         return 1;
     }

@@ -123,8 +123,8 @@ char *dedit_raw_value(const dict_entry *e, sl_err *err)
     text = dedit_read_text(dict_entry_file(e), &n, err);
     if (!text) return NULL;
     if (b < 0 || en < b || (size_t)en > n) {
-        sl_err_set(err, "%s: the text of '%s' has changed since it was read",
-                   dict_entry_file(e), dict_entry_key(e));
+        sl_err_set(err, "%s: the text of '%s' has changed since it was read", dict_entry_file(e),
+                   dict_entry_key(e));
         free(text);
         return NULL;
     }

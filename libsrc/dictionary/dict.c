@@ -180,8 +180,7 @@ void dict_insert(dict *d, dict_entry *e)
     }
     if (d->n == d->cap) {
         d->cap = d->cap ? 2 * d->cap : 8;
-        d->entries = sl_realloc(d->entries, d->cap * sizeof *d->entries,
-                                "dictionary entries");
+        d->entries = sl_realloc(d->entries, d->cap * sizeof *d->entries, "dictionary entries");
     }
     d->entries[d->n++] = e;
     if (d->index && 2 * d->n <= d->index_cap) dict_index_put(d, d->n - 1);
@@ -239,8 +238,7 @@ size_t dict_tokens_height(const dict_token *t, size_t n)
         if (t[i].kind == DICT_TOK_DICT) h = depth + dict_height(t[i].sub);
         else if (t[i].kind == DICT_TOK_PUNCT && (t[i].text[0] == '(' || t[i].text[0] == '['))
             h = ++depth;
-        else if (t[i].kind == DICT_TOK_PUNCT && depth > 0)
-            depth--;
+        else if (t[i].kind == DICT_TOK_PUNCT && depth > 0) depth--;
         if (h > max) max = h;
     }
     return max;

@@ -26,8 +26,8 @@ typedef struct dict dict;             /* ordered entries; may be nested */
 typedef struct dict_entry dict_entry; /* one `key value;` or `key {...}` */
 
 /* Limits that turn hostile input into an error instead of a stack overflow. */
-#define DICT_MAX_DEPTH 256  /* nesting of dictionaries and lists */
-#define DICT_MAX_INCLUDE 32 /* nesting of #include */
+#define DICT_MAX_DEPTH   256 /* nesting of dictionaries and lists */
+#define DICT_MAX_INCLUDE 32  /* nesting of #include */
 
 /* ---- reading ----------------------------------------------------------- */
 
@@ -78,23 +78,20 @@ int dict_get_word(const dict *d, const char *key, const char **out, sl_err *err)
 int dict_get_bool(const dict *d, const char *key, int *out, sl_err *err);
 int dict_get_vector(const dict *d, const char *key, double out[3], sl_err *err);
 /* (1 2 3) or 3(1 2 3); *out is malloc'd (even when *n is 0), free() it. */
-int dict_get_scalar_list(const dict *d, const char *key, double **out, size_t *n,
-                         sl_err *err);
+int dict_get_scalar_list(const dict *d, const char *key, double **out, size_t *n, sl_err *err);
 /* (a "b c") or 2(a b); free with dict_free_word_list(). */
-int dict_get_word_list(const dict *d, const char *key, char ***out, size_t *n,
-                       sl_err *err);
+int dict_get_word_list(const dict *d, const char *key, char ***out, size_t *n, sl_err *err);
 void dict_free_word_list(char **list, size_t n);
 
 /* Optional variants: missing key -> *out = def, return 0; present but
  * malformed -> error as above. */
-int dict_get_scalar_or(const dict *d, const char *key, double def, double *out,
-                       sl_err *err);
+int dict_get_scalar_or(const dict *d, const char *key, double def, double *out, sl_err *err);
 int dict_get_int_or(const dict *d, const char *key, long def, long *out, sl_err *err);
-int dict_get_word_or(const dict *d, const char *key, const char *def,
-                     const char **out, sl_err *err);
+int dict_get_word_or(const dict *d, const char *key, const char *def, const char **out,
+                     sl_err *err);
 int dict_get_bool_or(const dict *d, const char *key, int def, int *out, sl_err *err);
-int dict_get_vector_or(const dict *d, const char *key, const double def[3],
-                       double out[3], sl_err *err);
+int dict_get_vector_or(const dict *d, const char *key, const double def[3], double out[3],
+                       sl_err *err);
 
 /* ---- checking ------------------------------------------------------------
  * For each entry of d whose key is not in the NULL-terminated `valid` (and

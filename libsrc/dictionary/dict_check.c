@@ -75,10 +75,11 @@ static void dict_check_report(const dict *d, const dict_entry *e, const char *co
     const char *near = home ? NULL : dict_nearest(e->key, valid);
     if (home)
         sl_warning("%s:%d: unknown keyword '%s' in dictionary '%s': it belongs in %s (ignored "
-                   "here)", e->file, e->line, e->key, d->name, home);
+                   "here)",
+                   e->file, e->line, e->key, d->name, home);
     else if (near)
-        sl_warning("%s:%d: unknown keyword '%s' in dictionary '%s'; did you mean '%s'?",
-                   e->file, e->line, e->key, d->name, near);
+        sl_warning("%s:%d: unknown keyword '%s' in dictionary '%s'; did you mean '%s'?", e->file,
+                   e->line, e->key, d->name, near);
     else
         sl_warning("%s:%d: unknown keyword '%s' in dictionary '%s'", e->file, e->line, e->key,
                    d->name);
@@ -105,7 +106,8 @@ int dict_warn_unknown(const dict *d, const char *const *valid)
     }
     if (unknown > DICT_WARN_MAX)
         sl_warning("%s: ... and %d more unknown keywords in dictionary '%s' (the last at line "
-                   "%d)", d->file, unknown - DICT_WARN_MAX, d->name, last->line);
+                   "%d)",
+                   d->file, unknown - DICT_WARN_MAX, d->name, last->line);
     return unknown;
 }
 
@@ -119,8 +121,8 @@ static int dict_check_duplicates(const dict *d, int *shown)
             n++;
             if ((*shown)++ < DICT_WARN_MAX)
                 sl_warning("%s:%d: keyword '%s' in dictionary '%s' is set twice, at lines %d and "
-                           "%d: the value of line %d is used", e->file, e->line, e->key, d->name,
-                           e->prev_line, e->line, e->line);
+                           "%d: the value of line %d is used",
+                           e->file, e->line, e->key, d->name, e->prev_line, e->line, e->line);
         }
         if (e->sub) n += dict_check_duplicates(e->sub, shown);
     }

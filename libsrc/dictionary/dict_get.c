@@ -25,18 +25,17 @@ static const dict_entry *dict_get_entry(const dict *d, const char *key, sl_err *
 
 /* "<file>:<line>:<col>: keyword '<key>': <what>, found '<text>'", located at
  * token t (NULL: the entry).  Long values are shortened. */
-static int dict_get_bad(const dict_entry *e, const dict_token *t, const char *what,
-                        sl_err *err)
+static int dict_get_bad(const dict_entry *e, const dict_token *t, const char *what, sl_err *err)
 {
     char *text;
     if (!t && e->sub) {
-        sl_err_set(err, "%s:%d:%d: keyword '%s': %s, found a dictionary", e->file, e->line,
-                   e->col, e->key, what);
+        sl_err_set(err, "%s:%d:%d: keyword '%s': %s, found a dictionary", e->file, e->line, e->col,
+                   e->key, what);
         return -1;
     }
     if (t && t->kind == DICT_TOK_DICT) {
-        sl_err_set(err, "%s:%d:%d: keyword '%s': %s, found a dictionary", t->file, t->line,
-                   t->col, e->key, what);
+        sl_err_set(err, "%s:%d:%d: keyword '%s': %s, found a dictionary", t->file, t->line, t->col,
+                   e->key, what);
         return -1;
     }
     text = t ? sl_strdup(t->text) : dict_entry_value_text(e);
@@ -74,8 +73,7 @@ static int dict_get_is_decimal(const char *s)
 static int dict_get_is_nonfinite_word(const char *s)
 {
     if (*s == '+' || *s == '-') s++;
-    return strcasecmp(s, "nan") == 0 || strcasecmp(s, "inf") == 0 ||
-           strcasecmp(s, "infinity") == 0;
+    return strcasecmp(s, "nan") == 0 || strcasecmp(s, "inf") == 0 || strcasecmp(s, "infinity") == 0;
 }
 
 /* Parses the number of token t into *out; -1 with err filled otherwise. */
@@ -83,8 +81,7 @@ static int dict_get_number(const dict_entry *e, const dict_token *t, double *out
 {
     double v;
     if (!t || t->kind != DICT_TOK_WORD) return dict_get_bad(e, t, "expected a number", err);
-    if (dict_get_is_nonfinite_word(t->text))
-        return dict_get_bad(e, t, "not a finite number", err);
+    if (dict_get_is_nonfinite_word(t->text)) return dict_get_bad(e, t, "not a finite number", err);
     if (!dict_get_is_decimal(t->text)) return dict_get_bad(e, t, "expected a number", err);
     v = strtod(t->text, NULL);
     if (!isfinite(v)) return dict_get_bad(e, t, "not a finite number", err);
@@ -194,8 +191,8 @@ static const dict_entry *dict_get_list_entry(const dict *d, const char *key, con
 int dict_get_scalar_list(const dict *d, const char *key, double **out, size_t *n, sl_err *err)
 {
     size_t first, last;
-    const dict_entry *e = dict_get_list_entry(d, key, "expected a list of numbers", &first,
-                                              &last, err);
+    const dict_entry *e =
+        dict_get_list_entry(d, key, "expected a list of numbers", &first, &last, err);
     double *v;
     *out = NULL;
     *n = 0;
@@ -214,8 +211,8 @@ int dict_get_scalar_list(const dict *d, const char *key, double **out, size_t *n
 int dict_get_word_list(const dict *d, const char *key, char ***out, size_t *n, sl_err *err)
 {
     size_t first, last;
-    const dict_entry *e = dict_get_list_entry(d, key, "expected a list of words", &first,
-                                              &last, err);
+    const dict_entry *e =
+        dict_get_list_entry(d, key, "expected a list of words", &first, &last, err);
     char **v;
     *out = NULL;
     *n = 0;
@@ -265,8 +262,7 @@ int dict_get_int_or(const dict *d, const char *key, long def, long *out, sl_err 
     return dict_get_int(d, key, out, err);
 }
 
-int dict_get_word_or(const dict *d, const char *key, const char *def, const char **out,
-                     sl_err *err)
+int dict_get_word_or(const dict *d, const char *key, const char *def, const char **out, sl_err *err)
 {
     if (!dict_lookup(d, key)) return *out = def, 0;
     return dict_get_word(d, key, out, err);

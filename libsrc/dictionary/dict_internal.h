@@ -37,9 +37,9 @@ struct dict_entry {
     dict *sub;        /* non-NULL for a dictionary entry ... */
     dict_token *tok;  /* ... otherwise the value tokens */
     size_t ntok;
-    int referenced;   /* named by a $variable: a user's macro, not unknown */
-    int copied;       /* made by $var or a `$sub;` merge, not written here */
-    int prev_line;    /* > 0: the same key was written before in the same file
+    int referenced; /* named by a $variable: a user's macro, not unknown */
+    int copied;     /* made by $var or a `$sub;` merge, not written here */
+    int prev_line;  /* > 0: the same key was written before in the same file
                          and dictionary, at this line (dict_warn_duplicates) */
 };
 
@@ -56,9 +56,9 @@ struct dict {
     dict *parent;         /* enclosing scope; NULL at the top level */
     dict_entry **entries; /* pointers so that entries never move */
     size_t n, cap;
-    size_t *index;        /* hash of keys -> entry number + 1; large dicts only */
-    size_t index_cap;     /* a power of two, at least twice n */
-    dict_files *files;    /* top level only */
+    size_t *index;     /* hash of keys -> entry number + 1; large dicts only */
+    size_t index_cap;  /* a power of two, at least twice n */
+    dict_files *files; /* top level only */
 };
 
 dict *dict_new(const char *name, const char *file, dict *parent);
@@ -123,11 +123,10 @@ typedef struct dict_lexer {
     dict *top;        /* dict receiving this source's top-level entries */
     int is_include;   /* its FoamFile header is dropped */
     sl_err *err;
-    dict_lx_tok tok;  /* the current token */
+    dict_lx_tok tok; /* the current token */
 } dict_lexer;
 
-void dict_lex_init(dict_lexer *lx, const char *text, size_t len, const char *file,
-                   sl_err *err);
+void dict_lex_init(dict_lexer *lx, const char *text, size_t len, const char *file, sl_err *err);
 void dict_lex_done(dict_lexer *lx);
 /* Reads the next token into lx->tok; 0 or -1 with lx->err filled. */
 int dict_lex_next(dict_lexer *lx);
@@ -142,7 +141,7 @@ typedef struct dict_parser {
     sl_err *err;
     const char **stack; /* real paths of the files being read (NULL: a string) */
     size_t nstack, capstack;
-    size_t depth;       /* nesting level of the dictionary being filled */
+    size_t depth; /* nesting level of the dictionary being filled */
 } dict_parser;
 
 /* Formats "file:line:col: message" into lx->err; returns -1. */
@@ -156,8 +155,7 @@ int dict_parse_body(dict_parser *p, dict_lexer *lx, dict *d, int open_line, int 
 void dict_parse_add(const dict_lexer *lx, dict *d, dict_entry *e);
 /* Reads the value of `key` (the current token is its first token) up to its
  * ';' and adds the entry to d.  Takes ownership of key.  0 or -1. */
-int dict_value_parse(dict_parser *p, dict_lexer *lx, dict *d, char *key, int line,
-                     int col);
+int dict_value_parse(dict_parser *p, dict_lexer *lx, dict *d, char *key, int line, int col);
 
 /* ---- macros -------------------------------------------------------------- */
 

@@ -11,8 +11,7 @@
 
 #include "core/sl_mem.h"
 
-void dict_lex_init(dict_lexer *lx, const char *text, size_t len, const char *file,
-                   sl_err *err)
+void dict_lex_init(dict_lexer *lx, const char *text, size_t len, const char *file, sl_err *err)
 {
     memset(lx, 0, sizeof *lx);
     lx->text = text;
@@ -90,15 +89,15 @@ static int dict_lex_error_at(dict_lexer *lx, int line, int col, const char *what
 
 static int dict_lex_invalid(dict_lexer *lx, int c)
 {
-    sl_err_set(lx->err, "%s:%d:%d: invalid character 0x%02x (binary or corrupt file?)",
-               lx->file, lx->line, lx->col, (unsigned)c);
+    sl_err_set(lx->err, "%s:%d:%d: invalid character 0x%02x (binary or corrupt file?)", lx->file,
+               lx->line, lx->col, (unsigned)c);
     return -1;
 }
 
 static int dict_lex_comment_start(const dict_lexer *lx)
 {
     return dict_lex_peek(lx, 0) == '/' &&
-           (dict_lex_peek(lx, 1) == '/' || dict_lex_peek(lx, 1) == '*');
+        (dict_lex_peek(lx, 1) == '/' || dict_lex_peek(lx, 1) == '*');
 }
 
 static int dict_lex_block_comment(dict_lexer *lx)
@@ -125,8 +124,7 @@ static int dict_lex_skip(dict_lexer *lx)
         if (dict_lex_is_space(c)) {
             dict_lex_advance(lx);
         } else if (c == '/' && dict_lex_peek(lx, 1) == '/') {
-            while (dict_lex_peek(lx, 0) != -1 && dict_lex_peek(lx, 0) != '\n')
-                dict_lex_advance(lx);
+            while (dict_lex_peek(lx, 0) != -1 && dict_lex_peek(lx, 0) != '\n') dict_lex_advance(lx);
         } else if (c == '/' && dict_lex_peek(lx, 1) == '*') {
             if (dict_lex_block_comment(lx)) return -1;
         } else {
@@ -138,8 +136,7 @@ static int dict_lex_skip(dict_lexer *lx)
 /* Characters that can continue a word (brackets are handled by the caller). */
 static int dict_lex_is_word_char(int c)
 {
-    return c != -1 && !dict_lex_is_space(c) && !dict_lex_is_invalid(c) &&
-           !strchr("{};\"[]()", c);
+    return c != -1 && !dict_lex_is_space(c) && !dict_lex_is_invalid(c) && !strchr("{};\"[]()", c);
 }
 
 static int dict_lex_is_digit(int c) { return c >= '0' && c <= '9'; }

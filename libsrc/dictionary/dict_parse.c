@@ -89,8 +89,7 @@ static int dict_parse_check_nul(const char *text, size_t len, const char *file, 
     int line, col;
     if (!nul) return 0;
     dict_lex_locate(text, (size_t)(nul - text), &line, &col);
-    sl_err_set(err, "%s:%d:%d: invalid character 0x00 (binary or corrupt file?)", file, line,
-               col);
+    sl_err_set(err, "%s:%d:%d: invalid character 0x00 (binary or corrupt file?)", file, line, col);
     return -1;
 }
 
@@ -155,8 +154,8 @@ static void dict_parse_note_include(dict_parser *p, const dict_lexer *from, int 
 
 /* Reads the file at `path` into d as if its text stood where the
  * #include is (from, line, col: the directive, for messages). */
-static int dict_parse_include(dict_parser *p, const dict_lexer *from, int line, int col,
-                              dict *d, const char *path, int optional)
+static int dict_parse_include(dict_parser *p, const dict_lexer *from, int line, int col, dict *d,
+                              const char *path, int optional)
 {
     dict_lexer lx;
     size_t len = 0;
@@ -164,8 +163,7 @@ static int dict_parse_include(dict_parser *p, const dict_lexer *from, int line, 
     char *real = realpath(path, NULL), *text, *dir;
     if (real && dict_parse_on_stack(p, real)) {
         free(real);
-        return dict_parse_error(from, line, col, "#include loop: '%s' is already being read",
-                                path);
+        return dict_parse_error(from, line, col, "#include loop: '%s' is already being read", path);
     }
     if (p->nstack > DICT_MAX_INCLUDE) {
         free(real);
@@ -202,11 +200,9 @@ static int dict_parse_include_kind(const dict_lexer *lx)
 {
     const dict_lx_tok *t = &lx->tok;
     if (strcmp(t->text, "#include") == 0) return 0;
-    if (strcmp(t->text, "#includeIfPresent") == 0 || strcmp(t->text, "#sinclude") == 0)
-        return 1;
+    if (strcmp(t->text, "#includeIfPresent") == 0 || strcmp(t->text, "#sinclude") == 0) return 1;
     if (strncmp(t->text, "#include", 8) == 0)
-        return dict_parse_error(lx, t->line, t->col, "directive '%s' is not supported",
-                                t->text);
+        return dict_parse_error(lx, t->line, t->col, "directive '%s' is not supported", t->text);
     return dict_parse_error(lx, t->line, t->col, "unknown directive '%s'", t->text);
 }
 
@@ -222,8 +218,7 @@ static int dict_parse_directive(dict_parser *p, dict_lexer *lx, dict *d)
     }
     /* The file name must follow on the same line, or a forgotten name would
      * swallow the next keyword. */
-    if ((lx->tok.kind != DICT_LX_STRING && lx->tok.kind != DICT_LX_WORD) ||
-        lx->tok.line != line) {
+    if ((lx->tok.kind != DICT_LX_STRING && lx->tok.kind != DICT_LX_WORD) || lx->tok.line != line) {
         rc = dict_parse_error(lx, line, col, "expected a file name after '%s'", name);
         free(name);
         return rc;
@@ -255,8 +250,7 @@ static int dict_parse_merge(dict_parser *p, dict_lexer *lx, dict *d)
 
 /* ---- entries ------------------------------------------------------------- */
 
-static int dict_parse_subdict(dict_parser *p, dict_lexer *lx, dict *d, char *key, int line,
-                              int col)
+static int dict_parse_subdict(dict_parser *p, dict_lexer *lx, dict *d, char *key, int line, int col)
 {
     dict_entry *e = dict_entry_new(key, lx->file, line, col);
     int open_line = lx->tok.line, open_col = lx->tok.col, rc;
@@ -316,8 +310,7 @@ static int dict_parse_punct(const dict_lexer *lx, int open_line)
     }
     if (t->punct == '{')
         return dict_parse_error(lx, t->line, t->col, "unexpected '{': empty keyword");
-    return dict_parse_error(lx, t->line, t->col, "unexpected '%c': expected a keyword",
-                            t->punct);
+    return dict_parse_error(lx, t->line, t->col, "unexpected '%c': expected a keyword", t->punct);
 }
 
 int dict_parse_body(dict_parser *p, dict_lexer *lx, dict *d, int open_line, int open_col)
@@ -336,9 +329,15 @@ int dict_parse_body(dict_parser *p, dict_lexer *lx, dict *d, int open_line, int 
             rc = dict_parse_punct(lx, open_line);
             if (rc) return rc > 0 ? 0 : -1;
             break;
-        case DICT_LX_DIRECTIVE: rc = dict_parse_directive(p, lx, d); break;
-        case DICT_LX_VAR: rc = dict_parse_merge(p, lx, d); break;
-        default: rc = dict_parse_entry(p, lx, d); break;
+        case DICT_LX_DIRECTIVE:
+            rc = dict_parse_directive(p, lx, d);
+            break;
+        case DICT_LX_VAR:
+            rc = dict_parse_merge(p, lx, d);
+            break;
+        default:
+            rc = dict_parse_entry(p, lx, d);
+            break;
         }
         if (rc) return -1;
     }

@@ -27,7 +27,7 @@ static int dict_text_is(const dict_token *t, const char *chars)
 static int dict_text_is_count(const dict_token *t, const dict_token *next)
 {
     return t->kind == DICT_TOK_WORD && strspn(t->text, "0123456789") == strlen(t->text) &&
-           dict_text_is(next, "(");
+        dict_text_is(next, "(");
 }
 
 /* Single spaces between tokens, none just inside brackets. */

@@ -64,16 +64,15 @@ static int dict_value_unclosed(const dict_value *v)
 {
     const dict_value_bracket *b = &v->br[v->nbr - 1];
     return dict_parse_error(v->lx, b->line, b->col,
-                            "unbalanced '%c' in the value of keyword '%s': no matching '%c'",
-                            b->c, v->key, b->c == '(' ? ')' : ']');
+                            "unbalanced '%c' in the value of keyword '%s': no matching '%c'", b->c,
+                            v->key, b->c == '(' ? ')' : ']');
 }
 
 static int dict_value_too_deep(const dict_value *v, size_t extra)
 {
     if (v->p->depth + v->nbr + extra <= DICT_MAX_DEPTH) return 0;
     return dict_parse_error(v->lx, v->lx->tok.line, v->lx->tok.col,
-                            "dictionaries and lists nested deeper than %d levels",
-                            DICT_MAX_DEPTH);
+                            "dictionaries and lists nested deeper than %d levels", DICT_MAX_DEPTH);
 }
 
 static int dict_value_open(dict_value *v)
@@ -99,8 +98,7 @@ static int dict_value_close(dict_value *v)
     char want = t->punct == ')' ? '(' : '[';
     if (v->nbr == 0)
         return dict_parse_error(v->lx, t->line, t->col,
-                                "unbalanced '%c' in the value of keyword '%s'", t->punct,
-                                v->key);
+                                "unbalanced '%c' in the value of keyword '%s'", t->punct, v->key);
     if (v->br[v->nbr - 1].c != want)
         return dict_parse_error(v->lx, t->line, t->col,
                                 "mismatched '%c' in the value of keyword '%s' ('%c' opened "
@@ -202,12 +200,14 @@ static int dict_value_token(dict_value *v)
     case DICT_LX_STRING:
         dict_value_push(v, dict_value_here(v, DICT_TOK_STRING, dict_lex_take(v->lx)));
         return 0;
-    case DICT_LX_VAR: return dict_value_var(v);
+    case DICT_LX_VAR:
+        return dict_value_var(v);
     case DICT_LX_DIRECTIVE:
         return dict_parse_error(v->lx, t->line, t->col,
                                 "directive '%s' is not supported inside the value of keyword '%s'",
                                 t->text, v->key);
-    default: break;
+    default:
+        break;
     }
     if (t->punct == '(' || t->punct == '[') return dict_value_open(v);
     if (t->punct == ')' || t->punct == ']') return dict_value_close(v);

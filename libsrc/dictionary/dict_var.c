@@ -15,8 +15,7 @@
 
 /* Looks up the first `len` characters of name in scope, then, when outward
  * is set, in each enclosing dictionary. */
-static const dict_entry *dict_var_find(const dict *scope, const char *name, size_t len,
-                                       int outward)
+static const dict_entry *dict_var_find(const dict *scope, const char *name, size_t len, int outward)
 {
     for (; scope; scope = outward ? scope->parent : NULL) {
         const dict_entry *e = dict_find_local(scope, name, len);
@@ -57,8 +56,7 @@ const dict_entry *dict_var_lookup(const dict *scope, const char *name)
     while (e && slash) {
         name = slash + 1;
         slash = strchr(name, '/');
-        e = e->sub ? dict_find_local(e->sub, name, slash ? (size_t)(slash - name)
-                                                        : strlen(name))
+        e = e->sub ? dict_find_local(e->sub, name, slash ? (size_t)(slash - name) : strlen(name))
                    : NULL;
     }
     if (e) ((dict_entry *)e)->referenced = 1; /* the tree is ours; marks a macro */

@@ -135,8 +135,8 @@ void dom_boundary_images(dom_halo *hl, sl_boundary *b)
                 hl->bcode = sl_realloc(hl->bcode, cap * sizeof *hl->bcode, "boundary images");
             }
             const double *s = hl->shift[codes[q]];
-            prt_boundary_push(b, b->x[i] + s[0], b->y[i] + s[1], b->z[i] + s[2], b->nx[i],
-                              b->ny[i], b->nz[i], b->body[i]);
+            prt_boundary_push(b, b->x[i] + s[0], b->y[i] + s[1], b->z[i] + s[2], b->nx[i], b->ny[i],
+                              b->nz[i], b->body[i]);
             const size_t j = b->n - 1;
             b->x0[j] = b->x0[i] + s[0];
             b->y0[j] = b->y0[i] + s[1];
@@ -157,8 +157,8 @@ static void boundary_positions(dom_halo *hl, const sl_boundary *b)
     for (size_t i = 0; i < b->n; i++) hl->bpos[b->id[i]] = (uint32_t)i;
 }
 
-void dom_boundary_images_mass(dom_halo *hl, const nbr_grid *g, const krn_kernel *k,
-                              double c_static, sl_boundary *b)
+void dom_boundary_images_mass(dom_halo *hl, const nbr_grid *g, const krn_kernel *k, double c_static,
+                              sl_boundary *b)
 {
     if (!hl->nb_img) return;
     boundary_positions(hl, b);
@@ -214,7 +214,8 @@ static size_t list_candidates(dom_halo *hl, const nbr_grid *g, const sl_fluid *f
 {
     size_t m = 0;
     uint8_t codes[7];
-    for (size_t i = 0; i < f->n; i++) m += (size_t)image_codes(hl, f->x[i], f->y[i], f->z[i], codes);
+    for (size_t i = 0; i < f->n; i++)
+        m += (size_t)image_codes(hl, f->x[i], f->y[i], f->z[i], codes);
     reserve_images(hl, m);
     m = 0;
     for (size_t i = 0; i < f->n; i++) {

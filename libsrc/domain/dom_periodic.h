@@ -38,29 +38,29 @@
 
 /* What a case asks for (constant/boundaryProperties: periodic (x y);). */
 typedef struct dom_periodic {
-    unsigned axes;            /* bit d set: axis d is periodic */
-    double lo[3], hi[3];      /* the period [lo, hi) along the periodic axes */
+    unsigned axes;       /* bit d set: axis d is periodic */
+    double lo[3], hi[3]; /* the period [lo, hi) along the periodic axes */
 } dom_periodic;
 
 /* The images of one step and of the set-up. */
 typedef struct dom_halo {
     dom_periodic per;
-    double h;                 /* halo width: the search radius */
-    double shift[27][3];      /* shift of image code (k0+1) + 3 (k1+1) + 9 (k2+1) */
-    size_t n, cap;            /* fluid images, and room for them */
-    uint32_t *src;            /* owned index of the original of image k */
-    uint8_t *code;            /* its shift */
+    double h;                       /* halo width: the search radius */
+    double shift[27][3];            /* shift of image code (k0+1) + 3 (k1+1) + 9 (k2+1) */
+    size_t n, cap;                  /* fluid images, and room for them */
+    uint32_t *src;                  /* owned index of the original of image k */
+    uint8_t *code;                  /* its shift */
     uint32_t *cand_src, *cand_cell; /* scratch: images before sorting */
     uint8_t *cand_code;
-    uint32_t *count;          /* scratch, ncells + 1 */
-    uint32_t *hstart;         /* cell starts of the images (absolute indices), ncells + 1 */
+    uint32_t *count;  /* scratch, ncells + 1 */
+    uint32_t *hstart; /* cell starts of the images (absolute indices), ncells + 1 */
     size_t ncells;
-    size_t nb_real, nb_img;   /* boundary: real particles (ids < nb_real) and images */
-    uint32_t *bsrc;           /* id of the original of boundary image id nb_real + k */
+    size_t nb_real, nb_img; /* boundary: real particles (ids < nb_real) and images */
+    uint32_t *bsrc;         /* id of the original of boundary image id nb_real + k */
     uint8_t *bcode;
-    uint32_t *bpos;           /* index of boundary id (after the last sort) */
-    long steps;               /* statistics: searches with images */
-    double images_sum;        /* fluid images summed over them */
+    uint32_t *bpos;    /* index of boundary id (after the last sort) */
+    long steps;        /* statistics: searches with images */
+    double images_sum; /* fluid images summed over them */
 } dom_halo;
 
 /* Periodic axes named in `axes` text form ("x", "xy", ...) for the log. */
@@ -80,8 +80,8 @@ void dom_boundary_images(dom_halo *hl, sl_boundary *b);
 /* Set-up, after bnd_set_mass: images take their originals' masses, and
  * the static density of every boundary particle is summed again with
  * them (c_static: the calibration's factor). */
-void dom_boundary_images_mass(dom_halo *hl, const nbr_grid *g, const krn_kernel *k,
-                              double c_static, sl_boundary *b);
+void dom_boundary_images_mass(dom_halo *hl, const nbr_grid *g, const krn_kernel *k, double c_static,
+                              sl_boundary *b);
 
 /* After the fluid is sorted: build the fluid images at [f->n, f->n +
  * f->nhalo) (growing the capacity if needed) and point g->hstart at their

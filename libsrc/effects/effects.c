@@ -12,8 +12,7 @@
 #include "effects/viscosity.h"
 
 const eff_type *const eff_fluid_effects[] = {&eff_viscosity, &eff_laminar_viscosity,
-                                             &eff_surface_tension,
-                                             &eff_surface_density, NULL};
+                                             &eff_surface_tension, &eff_surface_density, NULL};
 
 void eff_set_init(eff_set *s) { memset(s, 0, sizeof *s); }
 

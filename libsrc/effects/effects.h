@@ -29,10 +29,10 @@
 
 /* Where in the step (Algorithm 2) an effect acts. */
 typedef enum {
-    EFF_PRE_STEP,   /* before the neighbour search: the world at t + dt (moving bodies) */
-    EFF_FORCES,     /* non-pressure accelerations, added to f->ax, ay, az */
-    EFF_DENSITY,    /* a correction of every predicted density (in the density pass) */
-    EFF_POST_STEP,  /* after an accepted step (emitters) */
+    EFF_PRE_STEP,  /* before the neighbour search: the world at t + dt (moving bodies) */
+    EFF_FORCES,    /* non-pressure accelerations, added to f->ax, ay, az */
+    EFF_DENSITY,   /* a correction of every predicted density (in the density pass) */
+    EFF_POST_STEP, /* after an accepted step (emitters) */
     EFF_STAGES
 } eff_stage;
 
@@ -43,11 +43,11 @@ typedef struct eff_view {
     sl_fluid *f;
     sl_boundary *b;
     nbr_grid *grid;
-    const nbr_list *ff, *fb;   /* fluid -> fluid and fluid -> boundary rows */
+    const nbr_list *ff, *fb; /* fluid -> fluid and fluid -> boundary rows */
     krn_kernel k;
     double h, r0, mass, rho0;
     const double *gravity;
-    double t, dt;              /* the step goes from t to t + dt */
+    double t, dt; /* the step goes from t to t + dt */
     /* EFF_DENSITY: the positions of this pass and the boundary method's
      * wall_density (whether the wall's share is part of the density) */
     const double *px, *py, *pz;
@@ -69,8 +69,8 @@ typedef struct eff_setup {
 } eff_setup;
 
 typedef struct eff_type {
-    const char *name;              /* its entry in constant/fluidProperties */
-    const char *const *keys;       /* the keys of that entry (NULL: a switch or none) */
+    const char *name;        /* its entry in constant/fluidProperties */
+    const char *const *keys; /* the keys of that entry (NULL: a switch or none) */
     eff_stage stage;
     /* Read entry `name` of constant/fluidProperties d (present) into a new
      * state; NULL when the entry turns the effect off.  Bad values stop
@@ -97,7 +97,7 @@ typedef struct eff_instance {
     const eff_type *type;
     void *state;
     long calls;
-    double time;                   /* wall-clock seconds */
+    double time; /* wall-clock seconds */
 } eff_instance;
 
 typedef struct eff_set {

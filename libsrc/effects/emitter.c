@@ -50,8 +50,8 @@ void emt_free(emt_emitter *e)
     e->np = 0;
 }
 
-size_t emt_emit(const emt_emitter *e, emt_state *st, double t, double dt, double r0,
-                sl_fluid *f, uint32_t *next_id)
+size_t emt_emit(const emt_emitter *e, emt_state *st, double t, double dt, double r0, sl_fluid *f,
+                uint32_t *next_id)
 {
     if (t + dt <= e->t0 || t >= e->t1) return 0;
     size_t added = 0;
@@ -76,7 +76,7 @@ size_t emt_emit(const emt_emitter *e, emt_state *st, double t, double dt, double
 typedef struct emitters {
     const emt_emitter *e;
     size_t n;
-    uint32_t next_id;     /* saved: next_id, then st[0..n) */
+    uint32_t next_id; /* saved: next_id, then st[0..n) */
     emt_state *st;
 } emitters;
 

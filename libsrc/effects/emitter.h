@@ -29,12 +29,12 @@ typedef struct emt_emitter {
     double size[2], radius;   /* rectangle widths along u, v; disc radius */
     double speed, t0, t1;     /* m/s; active for t0 <= t < t1 */
     double rho0;
-    size_t np;                /* lattice points of the opening */
-    double *pu, *pv;          /* their in-plane coordinates */
+    size_t np;       /* lattice points of the opening */
+    double *pu, *pv; /* their in-plane coordinates */
 } emt_emitter;
 
 typedef struct emt_state {
-    double travelled;         /* since the last layer, m */
+    double travelled; /* since the last layer, m */
 } emt_state;
 
 /* Set the in-plane axes and the lattice for spacing r0; returns the number
@@ -44,8 +44,8 @@ void emt_free(emt_emitter *e);
 
 /* After a step from t to t + dt: add the layers due; returns how many
  * particles were added (ids from *next_id on). */
-size_t emt_emit(const emt_emitter *e, emt_state *st, double t, double dt, double r0,
-                sl_fluid *f, uint32_t *next_id);
+size_t emt_emit(const emt_emitter *e, emt_state *st, double t, double dt, double r0, sl_fluid *f,
+                uint32_t *next_id);
 
 /* The emitter effect (post-step: after each accepted step from t to
  * t + dt, every emitter adds the layers due).  Its saved state is the id

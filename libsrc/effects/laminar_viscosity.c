@@ -7,9 +7,8 @@
 #include "core/sl_mem.h"
 #include "kernel/sph_sums.h"
 
-void lvisc_apply(const lvisc_params *p, const krn_kernel *k, double mass, double rho0,
-                 sl_fluid *f, const sl_boundary *b, const nbr_list *ff, const nbr_list *fb,
-                 size_t i0, size_t i1)
+void lvisc_apply(const lvisc_params *p, const krn_kernel *k, double mass, double rho0, sl_fluid *f,
+                 const sl_boundary *b, const nbr_list *ff, const nbr_list *fb, size_t i0, size_t i1)
 {
     const double c = 2.0 * p->nu / rho0, cb = 2.0 * p->nu_boundary / rho0;
     const double eps_h2 = 0.01 * k->h * k->h;
@@ -48,8 +47,8 @@ static void *read(const dict *d, const eff_setup *su)
 
 static void apply(void *state, const eff_view *v)
 {
-    lvisc_apply(state, &v->k, v->mass, v->rho0, v->f, v->b, v->ff, v->fb,
-                eff_rows_from(v), eff_rows_to(v));
+    lvisc_apply(state, &v->k, v->mass, v->rho0, v->f, v->b, v->ff, v->fb, eff_rows_from(v),
+                eff_rows_to(v));
 }
 
 const eff_type eff_laminar_viscosity = {

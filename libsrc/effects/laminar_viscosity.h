@@ -28,16 +28,16 @@
 #include "effects/effects.h"
 
 typedef struct lvisc_params {
-    double nu;           /* m^2/s, fluid-fluid */
-    double nu_boundary;  /* m^2/s, fluid-boundary */
+    double nu;          /* m^2/s, fluid-fluid */
+    double nu_boundary; /* m^2/s, fluid-boundary */
 } lvisc_params;
 
 extern const eff_type eff_laminar_viscosity;
 
 /* Add the viscous acceleration to f->ax, ay, az. */
 /* Rows [i0, i1) (-parallel's halo mode: a rank's own rows). */
-void lvisc_apply(const lvisc_params *p, const krn_kernel *k, double mass, double rho0,
-                 sl_fluid *f, const sl_boundary *b, const nbr_list *ff, const nbr_list *fb,
-                 size_t i0, size_t i1);
+void lvisc_apply(const lvisc_params *p, const krn_kernel *k, double mass, double rho0, sl_fluid *f,
+                 const sl_boundary *b, const nbr_list *ff, const nbr_list *fb, size_t i0,
+                 size_t i1);
 
 #endif

@@ -31,9 +31,10 @@ static void correct(const void *state, const eff_view *v, size_t i, double x, do
     const double *restrict rho_prev = v->f->scratch;
     const nbr_list *ff = v->ff;
     (void)state;
-    const double shf = v->mass * (krn_w(&v->k, 0.0) / rho_prev[i] +
-                                  sph_sum_w_over(v->k, ff->idx, ff->start[i], ff->start[i + 1], x,
-                                                 y, z, v->px, v->py, v->pz, rho_prev));
+    const double shf = v->mass *
+        (krn_w(&v->k, 0.0) / rho_prev[i] +
+         sph_sum_w_over(v->k, ff->idx, ff->start[i], ff->start[i + 1], x, y, z, v->px, v->py, v->pz,
+                        rho_prev));
     const double shv = shf + rb / v->rho0;
     const double sh = v->wall_density ? shv : shf;
     if (sh < 1.0 && sh > 0.0) *r /= sh;

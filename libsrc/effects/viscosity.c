@@ -7,9 +7,8 @@
 #include "core/sl_mem.h"
 #include "kernel/sph_sums.h"
 
-void visc_apply(const visc_params *p, const krn_kernel *k, double mass, double rho0,
-                sl_fluid *f, const sl_boundary *b, const nbr_list *ff, const nbr_list *fb,
-                size_t i0, size_t i1)
+void visc_apply(const visc_params *p, const krn_kernel *k, double mass, double rho0, sl_fluid *f,
+                const sl_boundary *b, const nbr_list *ff, const nbr_list *fb, size_t i0, size_t i1)
 {
     const double nu = p->coef / rho0;
     const double nub = p->coef_boundary / rho0;
@@ -23,22 +22,24 @@ void visc_apply(const visc_params *p, const krn_kernel *k, double mass, double r
         sph_sum_viscosity(kk, ff->idx, ff->start[i], ff->start[i + 1], pi, vi, f->x, f->y, f->z,
                           f->vx, f->vy, f->vz, NULL, eps_h2, mass * nu, a);
         if (nub > 0.0)
-            sph_sum_viscosity(kk, fb->idx, fb->start[i], fb->start[i + 1], pi, vi, b->x, b->y,
-                              b->z, b->vx, b->vy, b->vz, b->mass, eps_h2, nub, a);
+            sph_sum_viscosity(kk, fb->idx, fb->start[i], fb->start[i + 1], pi, vi, b->x, b->y, b->z,
+                              b->vx, b->vy, b->vz, b->mass, eps_h2, nub, a);
         f->ax[i] += a[0];
         f->ay[i] += a[1];
         f->az[i] += a[2];
     }
 }
 
-static const char *const keys[] = {"alpha", "boundaryAlpha", "soundSpeed", "nu", "boundaryNu",
-                                   NULL};
+static const char *const keys[] = {"alpha", "boundaryAlpha", "soundSpeed",
+                                   "nu",    "boundaryNu",    NULL};
 
 static void *read(const dict *d, const eff_setup *su)
 {
     sl_err err;
     const dict *v = dict_sub(d, "viscosity");
-    if (!v) dict_fatal(d, "viscosity", "must be a dictionary { alpha ..; soundSpeed ..; } or { nu ..; }");
+    if (!v)
+        dict_fatal(d, "viscosity",
+                   "must be a dictionary { alpha ..; soundSpeed ..; } or { nu ..; }");
     dict_warn_unknown(v, keys);
     visc_params *p = sl_malloc(sizeof *p, "viscosity");
     if (dict_has(v, "nu")) {
@@ -65,8 +66,8 @@ static void *read(const dict *d, const eff_setup *su)
 
 static void apply(void *state, const eff_view *v)
 {
-    visc_apply(state, &v->k, v->mass, v->rho0, v->f, v->b, v->ff, v->fb,
-               eff_rows_from(v), eff_rows_to(v));
+    visc_apply(state, &v->k, v->mass, v->rho0, v->f, v->b, v->ff, v->fb, eff_rows_from(v),
+               eff_rows_to(v));
 }
 
 const eff_type eff_viscosity = {

@@ -24,16 +24,15 @@
 #include "effects/effects.h"
 
 typedef struct visc_params {
-    double coef;           /* alpha h c_s (m^2/s), fluid-fluid */
-    double coef_boundary;  /* alpha_b h c_s, fluid-boundary */
+    double coef;          /* alpha h c_s (m^2/s), fluid-fluid */
+    double coef_boundary; /* alpha_b h c_s, fluid-boundary */
 } visc_params;
 
 extern const eff_type eff_viscosity;
 
 /* Add the viscous acceleration to f->ax, ay, az. */
 /* Rows [i0, i1) (-parallel's halo mode: a rank's own rows). */
-void visc_apply(const visc_params *p, const krn_kernel *k, double mass, double rho0,
-                sl_fluid *f, const sl_boundary *b, const nbr_list *ff, const nbr_list *fb,
-                size_t i0, size_t i1);
+void visc_apply(const visc_params *p, const krn_kernel *k, double mass, double rho0, sl_fluid *f,
+                const sl_boundary *b, const nbr_list *ff, const nbr_list *fb, size_t i0, size_t i1);
 
 #endif

@@ -46,7 +46,7 @@ typedef struct fo_list fo_list;
 /* What the objects of a list read from the solver (for post-processing,
  * which rebuilds only what is needed from the VTK files). */
 #define FO_NEED_BOUNDARY 1u /* boundary particles with pressure, density, mass */
-#define FO_NEED_GRID 2u     /* the neighbour grid, for point queries */
+#define FO_NEED_GRID     2u /* the neighbour grid, for point queries */
 
 /* The function objects of <case>/system/controlDict; NULL when there is no
  * `functions` dictionary or every entry is disabled.  Exits with

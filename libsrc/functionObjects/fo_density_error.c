@@ -34,19 +34,19 @@
 
 #define DE_DEFAULT_BINS 50
 
-static const char *const de_keys[] = {"percentiles", "histogram", "histogramBins",
-                                      "histogramRange", NULL};
+static const char *const de_keys[] = {"percentiles", "histogram", "histogramBins", "histogramRange",
+                                      NULL};
 
 typedef struct de_state {
-    double *pct;       /* percentiles, 0..100 */
+    double *pct; /* percentiles, 0..100 */
     size_t npct;
     int histogram;
     int fixed_range;
     double range[2];
     gsl_histogram *hist;
-    double *buf;       /* scratch: compression of every particle, sorted */
+    double *buf; /* scratch: compression of every particle, sorted */
     size_t cap;
-    char *path;        /* histogram file path (sized on first use) */
+    char *path; /* histogram file path (sized on first use) */
     size_t path_cap;
 } de_state;
 
@@ -92,10 +92,11 @@ static void *de_read(const dict *d)
 static void de_header(const void *vs, const pcs_view *s, FILE *f)
 {
     (void)vs;
-    fprintf(f, "# Density error of the fluid particles in percent of rho0 = %g kg/m^3\n"
-               "# average, maximum, pNN: compression max(rho - rho0, 0) / rho0 (the solver's "
-               "measure, as in timeStep.dat); pNN: NN-th percentile\n"
-               "# averageSigned, minimumSigned, maximumSigned: signed (rho - rho0) / rho0\n",
+    fprintf(f,
+            "# Density error of the fluid particles in percent of rho0 = %g kg/m^3\n"
+            "# average, maximum, pNN: compression max(rho - rho0, 0) / rho0 (the solver's "
+            "measure, as in timeStep.dat); pNN: NN-th percentile\n"
+            "# averageSigned, minimumSigned, maximumSigned: signed (rho - rho0) / rho0\n",
             s->rho0);
 }
 
@@ -185,10 +186,11 @@ static void de_write_histogram(de_state *st, const fo_call *call)
         sl_warning("densityError: cannot write '%s': %s", st->path, strerror(errno));
         return;
     }
-    fprintf(h, "# Histogram of the signed density error (rho - rho0) / rho0 in percent of "
-               "rho0 = %g kg/m^3\n"
-               "# time %.10g, %zu fluid particles, %zu below and %zu above the range\n"
-               "# binStart\tbinEnd\tcount\tfraction\n",
+    fprintf(h,
+            "# Histogram of the signed density error (rho - rho0) / rho0 in percent of "
+            "rho0 = %g kg/m^3\n"
+            "# time %.10g, %zu fluid particles, %zu below and %zu above the range\n"
+            "# binStart\tbinEnd\tcount\tfraction\n",
             rho0, call->time, f->n, below, above);
     for (size_t b = 0; b < gsl_histogram_bins(st->hist); b++) {
         double b0, b1, c = gsl_histogram_get(st->hist, b);

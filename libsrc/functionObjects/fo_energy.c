@@ -32,10 +32,11 @@ static void *en_read(const dict *d)
 static void en_header(const void *vs, const pcs_view *s, FILE *f)
 {
     const en_state *st = vs;
-    fprintf(f, "# Energy of the fluid in J: kinetic sum m v^2/2; potential -sum m g.(x - x_ref), "
-               "g = (%g %g %g), x_ref = (%g %g %g); m = %.10g kg\n",
-            s->gravity[0], s->gravity[1], s->gravity[2], st->ref[0], st->ref[1],
-            st->ref[2], s->mass);
+    fprintf(f,
+            "# Energy of the fluid in J: kinetic sum m v^2/2; potential -sum m g.(x - x_ref), "
+            "g = (%g %g %g), x_ref = (%g %g %g); m = %.10g kg\n",
+            s->gravity[0], s->gravity[1], s->gravity[2], st->ref[0], st->ref[1], st->ref[2],
+            s->mass);
 }
 
 static void en_columns(const void *vs, FILE *f)
@@ -54,7 +55,7 @@ static void en_execute(void *vs, const fo_call *call)
     for (size_t i = 0; i < f->n; i++) {
         v2 += f->vx[i] * f->vx[i] + f->vy[i] * f->vy[i] + f->vz[i] * f->vz[i];
         gx += g[0] * (f->x[i] - st->ref[0]) + g[1] * (f->y[i] - st->ref[1]) +
-              g[2] * (f->z[i] - st->ref[2]);
+            g[2] * (f->z[i] - st->ref[2]);
     }
     double kin = 0.5 * s->mass * v2, pot = -s->mass * gx;
     fo_put(call->dat, kin);

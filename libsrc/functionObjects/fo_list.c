@@ -20,8 +20,7 @@
 static const fo_type *const fo_types[] = {&fo_type_density_error, &fo_type_probes,
                                           &fo_type_water_gauges, &fo_type_energy, NULL};
 
-static const char *const common_keys[] = {"type", "writeControl", "writeInterval", "enabled",
-                                          NULL};
+static const char *const common_keys[] = {"type", "writeControl", "writeInterval", "enabled", NULL};
 
 /* Rows remembered for rolling back (the solver redoes up to two steps
  * after a shock). */
@@ -39,7 +38,7 @@ typedef struct fo_object {
     int failed;
     double row_time[FO_RING]; /* the last rows: time and file offset */
     off_t row_at[FO_RING];
-    size_t nrows;             /* rows written (the ring holds the last FO_RING) */
+    size_t nrows; /* rows written (the ring holds the last FO_RING) */
 } fo_object;
 
 struct fo_list {
@@ -47,7 +46,7 @@ struct fo_list {
     size_t n, cap;
     char *case_dir;
     int precision;
-    int post;      /* post-processing: every call executes, every call is a write time */
+    int post; /* post-processing: every call executes, every call is a write time */
     char tname[64];
     fo_index ix;
     int started;      /* files open (first call or fo_start) */
@@ -221,7 +220,8 @@ fo_list *fo_select(const sl_case *c, const char *const *names, size_t n)
             char valid[256];
             type_list(valid, sizeof valid);
             sl_fatal("'%s' is neither a function object of %s/system/controlDict nor a type "
-                     "(valid types: %s)", names[i], c->dir, valid);
+                     "(valid types: %s)",
+                     names[i], c->dir, valid);
         }
         /* A type with its defaults: an empty dictionary naming only the type. */
         char text[128], src[128];
@@ -251,8 +251,8 @@ static void open_object(fo_list *l, fo_object *o, const pcs_view *s)
     o->path = sl_malloc(len, "path");
     snprintf(o->path, len, "%s/%s.dat", o->dir, o->type->name);
     o->dat = fopen(o->path, "w");
-    if (!o->dat) sl_fatal("function object '%s': cannot write '%s': %s", o->name, o->path,
-                          strerror(errno));
+    if (!o->dat)
+        sl_fatal("function object '%s': cannot write '%s': %s", o->name, o->path, strerror(errno));
     fprintf(o->dat, "# %s: function object '%s' (Sluice)\n", o->type->name, o->name);
     o->type->header(o->state, s, o->dat);
     fputs("# Time", o->dat);
@@ -337,8 +337,8 @@ void fo_execute(fo_list *l, const pcs_view *s, double time, long step, int write
         if (row) write_row(o, &call);
         if (write_time && o->type->at_write) o->type->at_write(o->state, &call);
         if (fflush(o->dat) != 0 || ferror(o->dat)) {
-            sl_warning("function object '%s': cannot write '%s': %s; it writes no more",
-                       o->name, o->path, strerror(errno));
+            sl_warning("function object '%s': cannot write '%s': %s; it writes no more", o->name,
+                       o->path, strerror(errno));
             o->failed = 1;
         }
     }

@@ -16,8 +16,7 @@
 
 /* ---- time selection ---- */
 
-int fo_post_times(const char *case_dir, const char *spec, int latest, tdir_list *out,
-                  sl_err *err)
+int fo_post_times(const char *case_dir, const char *spec, int latest, tdir_list *out, sl_err *err)
 {
     if (tdir_list_read(case_dir, "fluid.vtu", out, err)) return 1;
     if (tdir_select(out, spec, latest, 1, err)) {
@@ -27,10 +26,9 @@ int fo_post_times(const char *case_dir, const char *spec, int latest, tdir_list 
     if (out->n == 0) {
         tdir_list_free(out);
         if (spec)
-            sl_err_set(err, "no time directory of '%s' with fluid.vtu matches -time '%s'",
-                       case_dir, spec);
-        else
-            sl_err_set(err, "no time directory with fluid.vtu in '%s'", case_dir);
+            sl_err_set(err, "no time directory of '%s' with fluid.vtu matches -time '%s'", case_dir,
+                       spec);
+        else sl_err_set(err, "no time directory with fluid.vtu in '%s'", case_dir);
         return 1;
     }
     return 0;

@@ -26,8 +26,7 @@
 /* Time directories of the case holding fluid.vtu, filtered by spec (NULL:
  * all) or only the latest (latest != 0).  Returns 0, or nonzero with err
  * filled (malformed spec, no matching time). */
-int fo_post_times(const char *case_dir, const char *spec, int latest, tdir_list *out,
-                  sl_err *err);
+int fo_post_times(const char *case_dir, const char *spec, int latest, tdir_list *out, sl_err *err);
 
 typedef struct fo_snapshot {
     sl_fluid f;
@@ -36,7 +35,7 @@ typedef struct fo_snapshot {
     nbr_list bf;
     uint32_t *active;
     size_t nactive;
-    pcs_view v;           /* what the function objects read */
+    pcs_view v; /* what the function objects read */
 } fo_snapshot;
 
 /* Load <case>/<tname>/ into sn (needs: FO_NEED_*).  Returns 0, or nonzero

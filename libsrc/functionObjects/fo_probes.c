@@ -21,8 +21,7 @@
 static const char *const pr_keys[] = {"fields", "probeLocations", NULL};
 
 typedef enum { PR_PRESSURE, PR_DENSITY, PR_VELOCITY, PR_NFIELDS } pr_field;
-static const char *const pr_field_names[PR_NFIELDS + 1] = {"pressure", "density", "velocity",
-                                                           NULL};
+static const char *const pr_field_names[PR_NFIELDS + 1] = {"pressure", "density", "velocity", NULL};
 
 typedef struct pr_state {
     int field[PR_NFIELDS];
@@ -68,10 +67,11 @@ static void pr_header(const void *vs, const pcs_view *s, FILE *f)
 {
     const pr_state *st = vs;
     (void)s;
-    fprintf(f, "# Shepard-normalised SPH interpolation sum_j V_j A_j W / sum_j V_j W, V_j = m_j / "
-               "rho_j, over fluid and active boundary particles within h;\n"
-               "# nan: no particle within h.  pressure in Pa, density in kg/m^3, velocity in "
-               "m/s\n");
+    fprintf(f,
+            "# Shepard-normalised SPH interpolation sum_j V_j A_j W / sum_j V_j W, V_j = m_j / "
+            "rho_j, over fluid and active boundary particles within h;\n"
+            "# nan: no particle within h.  pressure in Pa, density in kg/m^3, velocity in "
+            "m/s\n");
     for (size_t i = 0; i < st->n; i++)
         fprintf(f, "# Probe %zu (%.10g %.10g %.10g)\n", i, st->pts[3 * i], st->pts[3 * i + 1],
                 st->pts[3 * i + 2]);
@@ -84,8 +84,7 @@ static void pr_columns(const void *vs, FILE *f)
         for (size_t i = 0; i < st->n; i++) {
             if (st->field[k] == PR_VELOCITY)
                 fprintf(f, "\tvelocity_%zu_x\tvelocity_%zu_y\tvelocity_%zu_z", i, i, i);
-            else
-                fprintf(f, "\t%s_%zu", pr_field_names[st->field[k]], i);
+            else fprintf(f, "\t%s_%zu", pr_field_names[st->field[k]], i);
         }
 }
 
@@ -100,8 +99,12 @@ static void pr_execute(void *vs, const fo_call *call)
         for (size_t i = 0; i < st->n; i++) {
             const fo_sample *v = &st->val[i];
             switch ((pr_field)st->field[k]) {
-            case PR_PRESSURE: fo_put(call->dat, v->pressure); break;
-            case PR_DENSITY: fo_put(call->dat, v->density); break;
+            case PR_PRESSURE:
+                fo_put(call->dat, v->pressure);
+                break;
+            case PR_DENSITY:
+                fo_put(call->dat, v->density);
+                break;
             case PR_VELOCITY:
             case PR_NFIELDS:
                 for (int c = 0; c < 3; c++) fo_put(call->dat, v->velocity[c]);

@@ -37,8 +37,7 @@ static inline int boundary_active(const pcs_view *s, size_t j)
     return l->n != s->b->n || l->start[j + 1] > l->start[j];
 }
 
-static inline void add_boundary(acc *a, const pcs_view *s, size_t j, double x, double y,
-                                double z)
+static inline void add_boundary(acc *a, const pcs_view *s, size_t j, double x, double y, double z)
 {
     const sl_boundary *b = s->b;
     double dx = x - b->x[j], dy = y - b->y[j], dz = z - b->z[j];
@@ -106,7 +105,7 @@ void fo_index_update(fo_index *ix, const pcs_view *s)
     const sl_fluid *f = s->f;
     const sl_boundary *b = s->b;
     ix->use_grid = sorted_ok(g, ix->cell_of_rank, g->fstart, f->n, f->x, f->y, f->z) &&
-                   sorted_ok(g, ix->cell_of_rank, g->bstart, b->n, b->x, b->y, b->z);
+        sorted_ok(g, ix->cell_of_rank, g->bstart, b->n, b->x, b->y, b->z);
 }
 
 void fo_index_free(fo_index *ix)
@@ -148,8 +147,8 @@ static void gather_at(const fo_index *ix, double x, double y, double z, int boun
     for (int cz = lo[2]; cz <= hi[2]; cz++)
         for (int cy = lo[1]; cy <= hi[1]; cy++)
             for (int cx = lo[0]; cx <= hi[0]; cx++) {
-                size_t lin = (size_t)cx + (size_t)g->nc[0] * ((size_t)cy + (size_t)g->nc[1] *
-                                                                               (size_t)cz);
+                size_t lin =
+                    (size_t)cx + (size_t)g->nc[0] * ((size_t)cy + (size_t)g->nc[1] * (size_t)cz);
                 uint32_t r = g->rank[lin];
                 for (uint32_t j = g->fstart[r]; j < g->fstart[r + 1]; j++)
                     add_fluid(a, s, j, x, y, z);

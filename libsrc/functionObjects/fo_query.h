@@ -31,8 +31,8 @@
 
 typedef struct fo_index {
     const pcs_view *s;
-    int use_grid;            /* the grid describes s->f and s->b (see above) */
-    uint32_t *cell_of_rank;  /* inverse of grid.rank, built on first use */
+    int use_grid;           /* the grid describes s->f and s->b (see above) */
+    uint32_t *cell_of_rank; /* inverse of grid.rank, built on first use */
     size_t ncells;
 } fo_index;
 
@@ -42,7 +42,7 @@ void fo_index_update(fo_index *ix, const pcs_view *s);
 void fo_index_free(fo_index *ix);
 
 typedef struct fo_sample {
-    int n;              /* particles within h */
+    int n;                                 /* particles within h */
     double pressure, density, velocity[3]; /* NaN when n == 0 */
 } fo_sample;
 

@@ -22,12 +22,12 @@
 
 typedef struct fo_call {
     const pcs_view *s;
-    const fo_index *ix;    /* point queries (checked when an object needing them is due) */
+    const fo_index *ix; /* point queries (checked when an object needing them is due) */
     double time;
     const char *time_name; /* time-folder name of `time` */
     int write_time;
-    FILE *dat;             /* <type>.dat, positioned for this row's values */
-    const char *dir;       /* postProcessing/<name>/<startTime> */
+    FILE *dat;       /* <type>.dat, positioned for this row's values */
+    const char *dir; /* postProcessing/<name>/<startTime> */
 } fo_call;
 
 typedef struct fo_type {

@@ -85,14 +85,13 @@ static void wg_header(const void *vs, const pcs_view *s, FILE *f)
 {
     const wg_state *st = vs;
     char range[128];
-    if (st->have_range)
-        snprintf(range, sizeof range, "in [%g, %g]", st->z0, st->z1);
-    else
-        snprintf(range, sizeof range, "below the highest fluid particle + h");
-    fprintf(f, "# Free-surface height (z, m) on vertical lines: the highest z %s where the fluid "
-               "colour sum_j V_j W reaches %g,\n"
-               "# sampled at the multiples of r0/4 = %g m from the top down and interpolated "
-               "linearly; nan: no fluid on the line\n",
+    if (st->have_range) snprintf(range, sizeof range, "in [%g, %g]", st->z0, st->z1);
+    else snprintf(range, sizeof range, "below the highest fluid particle + h");
+    fprintf(f,
+            "# Free-surface height (z, m) on vertical lines: the highest z %s where the fluid "
+            "colour sum_j V_j W reaches %g,\n"
+            "# sampled at the multiples of r0/4 = %g m from the top down and interpolated "
+            "linearly; nan: no fluid on the line\n",
             range, st->threshold, s->r0 / 4);
     for (size_t i = 0; i < st->n; i++)
         fprintf(f, "# Gauge %zu (%.10g %.10g)\n", i, st->xy[2 * i], st->xy[2 * i + 1]);

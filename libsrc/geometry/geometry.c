@@ -105,11 +105,17 @@ static size_t sample_box_surface(const double lo[3], const double hi[3], double 
                     unsigned fmin = 1u << (2 * d), fmax = 1u << (2 * d + 1);
                     if (idx[d] == 0) {
                         on_any = 1;
-                        if (!(open & fmin)) { nrm[d] -= sign; on_closed = 1; }
+                        if (!(open & fmin)) {
+                            nrm[d] -= sign;
+                            on_closed = 1;
+                        }
                     }
                     if (idx[d] == n[d]) {
                         on_any = 1;
-                        if (!(open & fmax)) { nrm[d] += sign; on_closed = 1; }
+                        if (!(open & fmax)) {
+                            nrm[d] += sign;
+                            on_closed = 1;
+                        }
                     }
                 }
                 if (!on_any || !on_closed) continue;
@@ -133,8 +139,8 @@ static size_t sample_sphere(const double c[3], double radius, double r0, uint32_
         double rr = sqrt(1.0 - z * z);
         double phi = golden * (double)i;
         double nx = rr * cos(phi), ny = rr * sin(phi);
-        prt_boundary_push(b, c[0] + radius * nx, c[1] + radius * ny, c[2] + radius * z,
-                          nx, ny, z, body);
+        prt_boundary_push(b, c[0] + radius * nx, c[1] + radius * ny, c[2] + radius * z, nx, ny, z,
+                          body);
     }
     return n;
 }
@@ -218,7 +224,10 @@ size_t geo_sample(const geo_shape *s, double r0, uint32_t body, sl_boundary *b)
     double lo[3], hi[3];
     switch (s->kind) {
     case GEO_CONTAINER:
-        for (int d = 0; d < 3; d++) { lo[d] = s->lo[d] - half; hi[d] = s->hi[d] + half; }
+        for (int d = 0; d < 3; d++) {
+            lo[d] = s->lo[d] - half;
+            hi[d] = s->hi[d] + half;
+        }
         return sample_box_surface(lo, hi, r0, -1.0, s->open_faces, body, b);
     case GEO_BOX:
         for (int d = 0; d < 3; d++) {
@@ -243,7 +252,8 @@ size_t geo_sample(const geo_shape *s, double r0, uint32_t body, sl_boundary *b)
     case GEO_PLANE:
         return sample_plane(s, r0, body, b);
     case GEO_MESH: {
-        msample_params mp = msample_defaults(r0, s->mesh_container ? MSAMPLE_CONTAINER : MSAMPLE_OBSTACLE);
+        msample_params mp =
+            msample_defaults(r0, s->mesh_container ? MSAMPLE_CONTAINER : MSAMPLE_OBSTACLE);
         size_t added = 0;
         sl_err err;
         if (msample_surface(s->mesh, &mp, body, b, &added, &err)) sl_fatal("%s", err.msg);
@@ -257,7 +267,10 @@ void geo_bounds(const geo_shape *s, double r0, double lo[3], double hi[3])
 {
     if (s->kind == GEO_MESH) {
         mesh_bounds(s->mesh, lo, hi);
-        for (int d = 0; d < 3; d++) { lo[d] -= r0; hi[d] += r0; }
+        for (int d = 0; d < 3; d++) {
+            lo[d] -= r0;
+            hi[d] += r0;
+        }
         return;
     }
     for (int d = 0; d < 3; d++) {
@@ -303,8 +316,7 @@ static size_t fill_lattice(const geo_shape *region, const double lo[3], const do
     mesh_progress mp;
     mesh_progress_start(&mp, plane * (n[2] > 0 ? (size_t)n[2] : 0),
                         "filling '%s' (%ld x %ld x %ld lattice points)",
-                        region->name[0] ? region->name : "a box", n[0], n[1],
-                        n[2]);
+                        region->name[0] ? region->name : "a box", n[0], n[1], n[2]);
     for (long k = 0; k < n[2]; k++)
         for (long j = 0; j < n[1]; j++) {
             mesh_progress_at(&mp, (size_t)k * plane + (size_t)j * row);

@@ -29,16 +29,16 @@ enum { GEO_XMIN = 1, GEO_XMAX = 2, GEO_YMIN = 4, GEO_YMAX = 8, GEO_ZMIN = 16, GE
 typedef struct geo_shape {
     geo_kind kind;
     char name[64];
-    double lo[3], hi[3];      /* container (inner walls) and box */
-    double centre[3];         /* sphere */
-    double radius;            /* sphere, cylinder */
-    double p1[3], p2[3];      /* cylinder: axis end points (solid, capped) */
+    double lo[3], hi[3];            /* container (inner walls) and box */
+    double centre[3];               /* sphere */
+    double radius;                  /* sphere, cylinder */
+    double p1[3], p2[3];            /* cylinder: axis end points (solid, capped) */
     double origin[3], e1[3], e2[3]; /* plane: rectangle origin + s e1 + t e2, s, t in [0, 1];
                                        the fluid is on the side of e1 x e2 */
-    unsigned open_faces;      /* container: faces left open (GEO_XMIN | ...) */
-    struct mesh *mesh;        /* mesh: validated, with its distance index */
-    int mesh_container;       /* mesh: fluid inside (1) or outside (0) */
-    double dbound;            /* mesh: distances beyond this need only their sign */
+    unsigned open_faces;            /* container: faces left open (GEO_XMIN | ...) */
+    struct mesh *mesh;              /* mesh: validated, with its distance index */
+    int mesh_container;             /* mesh: fluid inside (1) or outside (0) */
+    double dbound;                  /* mesh: distances beyond this need only their sign */
 } geo_shape;
 
 /* Signed distance from p to the solid: positive in the fluid space,

@@ -202,8 +202,8 @@ double mesh_volume(const mesh *m)
             for (int d = 0; d < 3; d++) a[k][d] = p[k][d] - c[d];
         }
         s += a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
-             a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-             a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+            a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+            a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
     }
     return s / 6.0;
 }
@@ -228,7 +228,11 @@ void mesh_topology_build(const mesh *m, mesh_topology *tp)
     half_edge *h = sl_malloc(nh * sizeof *h, "mesh edges");
     for (size_t i = 0; i < nh; i++) {
         uint32_t a = m->t[i], b = m->t[i - i % 3 + (i % 3 + 1) % 3];
-        if (a > b) { uint32_t s = a; a = b; b = s; }
+        if (a > b) {
+            uint32_t s = a;
+            a = b;
+            b = s;
+        }
         h[i].key = (uint64_t)a << 32 | b;
         h[i].he = i;
     }
@@ -298,7 +302,7 @@ static int is_degenerate(const mesh *m, size_t j, double diag2)
     for (int k = 0; k < 3; k++) {
         const double *a = m->v + 3 * t[k], *b = m->v + 3 * t[(k + 1) % 3];
         double e2 = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                    (a[2] - b[2]) * (a[2] - b[2]);
+            (a[2] - b[2]) * (a[2] - b[2]);
         if (e2 > emax2) emax2 = e2;
     }
     cross_of(m, j, n);
@@ -460,18 +464,21 @@ int mesh_validate(mesh *m, const char *name, unsigned flags, mesh_report *rep, s
         sl_err open;
         closed_error(m, &tp, name, &r, &open);
         sl_warning("%s: it is sampled as an open sheet, and inside and outside are not defined "
-                   "near its holes (close the mesh for a solid body)", open.msg);
+                   "near its holes (close the mesh for a solid body)",
+                   open.msg);
     }
     r.reoriented = make_consistent(m, &tp, &bad);
     mesh_topology_free(&tp);
     if (r.reoriented == (size_t)-1) {
-        sl_err_set(err, "%s: mesh is not orientable: triangle %zu cannot agree with all its "
-                        "neighbours (Moebius strip?)", name, bad + 1);
+        sl_err_set(err,
+                   "%s: mesh is not orientable: triangle %zu cannot agree with all its "
+                   "neighbours (Moebius strip?)",
+                   name, bad + 1);
         return 1;
     }
     if (r.reoriented && !quiet)
-        sl_warning("%s: flipped %zu triangles to agree in orientation with their neighbours",
-                   name, r.reoriented);
+        sl_warning("%s: flipped %zu triangles to agree in orientation with their neighbours", name,
+                   r.reoriented);
     r.volume = mesh_volume(m);
     if (r.closed && r.volume < 0.0) {
         flip_all(m);

@@ -30,7 +30,7 @@
 
 #define LEAF_SIZE 4
 #define MAX_DEPTH 96 /* > log2(2^32) + 1 with margin */
-#define SNAP 1e-9
+#define SNAP      1e-9
 
 typedef struct bvh_node {
     double lo[3], hi[3];
@@ -76,8 +76,7 @@ static double angle_at(const double *a, const double *b, const double *c)
 {
     double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
     double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double x[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-                   u[0] * w[1] - u[1] * w[0]};
+    double x[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
     return atan2(sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]),
                  u[0] * w[0] + u[1] * w[1] + u[2] * w[2]);
 }
@@ -108,7 +107,7 @@ typedef struct build_ctx {
     uint32_t *perm; /* slot -> triangle while building */
     bvh_node *node;
     size_t nnode;
-    size_t work;    /* triangles scanned so far: the build's cost (progress) */
+    size_t work; /* triangles scanned so far: the build's cost (progress) */
     mesh_progress *mp;
 } build_ctx;
 
@@ -203,7 +202,8 @@ void mesh_index_build(mesh *m)
         b.perm[j] = (uint32_t)j;
         for (int d = 0; d < 3; d++)
             b.cen[3 * j + d] = (m->v[3 * m->t[3 * j] + d] + m->v[3 * m->t[3 * j + 1] + d] +
-                                m->v[3 * m->t[3 * j + 2] + d]) / 3.0;
+                                m->v[3 * m->t[3 * j + 2] + d]) /
+                3.0;
     }
     size_t levels = 1;
     while ((nt >> levels) > LEAF_SIZE) levels++;
@@ -275,13 +275,22 @@ static int closest_on_triangle(const double *p, const double *tri, double c[3])
     }
     d1 = dot3(ab, ap);
     d2 = dot3(ac, ap);
-    if (d1 <= 0.0 && d2 <= 0.0) { memcpy(c, a, 3 * sizeof *c); return R_VA; }
+    if (d1 <= 0.0 && d2 <= 0.0) {
+        memcpy(c, a, 3 * sizeof *c);
+        return R_VA;
+    }
     d3 = dot3(ab, bp);
     d4 = dot3(ac, bp);
-    if (d3 >= 0.0 && d4 <= d3) { memcpy(c, b, 3 * sizeof *c); return R_VB; }
+    if (d3 >= 0.0 && d4 <= d3) {
+        memcpy(c, b, 3 * sizeof *c);
+        return R_VB;
+    }
     d5 = dot3(ab, cp);
     d6 = dot3(ac, cp);
-    if (d6 >= 0.0 && d5 <= d6) { memcpy(c, cc, 3 * sizeof *c); return R_VC; }
+    if (d6 >= 0.0 && d5 <= d6) {
+        memcpy(c, cc, 3 * sizeof *c);
+        return R_VC;
+    }
     vc = d1 * d4 - d3 * d2;
     if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
         v = d1 / (d1 - d3);
@@ -309,8 +318,12 @@ static int closest_on_triangle(const double *p, const double *tri, double c[3])
             double t = segment_t(p, s, e), q[3], d2q;
             for (int d = 0; d < 3; d++) q[d] = s[d] + t * (e[d] - s[d]);
             d2q = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
-                  (q[2] - p[2]) * (q[2] - p[2]);
-            if (d2q < best) { best = d2q; reg = edge_region(k, t); memcpy(c, q, sizeof q); }
+                (q[2] - p[2]) * (q[2] - p[2]);
+            if (d2q < best) {
+                best = d2q;
+                reg = edge_region(k, t);
+                memcpy(c, q, sizeof q);
+            }
         }
         return reg;
     }
@@ -344,7 +357,10 @@ typedef struct hit {
  * if there is none. */
 static void nearest(const mesh_index *ix, const double p[3], double bound2, hit *h)
 {
-    struct { uint32_t node; double d2; } stack[MAX_DEPTH + 2];
+    struct {
+        uint32_t node;
+        double d2;
+    } stack[MAX_DEPTH + 2];
     int top = 0;
     h->d2 = bound2;
     memcpy(h->c, p, sizeof h->c);
@@ -363,7 +379,7 @@ static void nearest(const mesh_index *ix, const double p[3], double bound2, hit 
                 double c[3], d2;
                 int reg = closest_on_triangle(p, ix->tri + 9 * (size_t)s, c);
                 d2 = (c[0] - p[0]) * (c[0] - p[0]) + (c[1] - p[1]) * (c[1] - p[1]) +
-                     (c[2] - p[2]) * (c[2] - p[2]);
+                    (c[2] - p[2]) * (c[2] - p[2]);
                 if (d2 < h->d2) {
                     h->d2 = d2;
                     h->slot = s;
@@ -376,11 +392,15 @@ static void nearest(const mesh_index *ix, const double p[3], double bound2, hit 
             double dl = box_dist2(&ix->node[l], p), dr = box_dist2(&ix->node[r], p);
             /* push the farther child first: the nearer one is searched first */
             if (dl < dr) {
-                stack[top].node = r; stack[top++].d2 = dr;
-                stack[top].node = l; stack[top++].d2 = dl;
+                stack[top].node = r;
+                stack[top++].d2 = dr;
+                stack[top].node = l;
+                stack[top++].d2 = dl;
             } else {
-                stack[top].node = l; stack[top++].d2 = dl;
-                stack[top].node = r; stack[top++].d2 = dr;
+                stack[top].node = l;
+                stack[top++].d2 = dl;
+                stack[top].node = r;
+                stack[top++].d2 = dr;
             }
         }
     }
@@ -422,11 +442,17 @@ static double signed_of_hit(const mesh_index *ix, const double p[3], const hit *
     const double *n;
     double dp[3], d;
     switch (h->region) {
-    case R_FACE: n = ix->fn + 3 * h->slot; break;
-    case R_VA: case R_VB: case R_VC:
+    case R_FACE:
+        n = ix->fn + 3 * h->slot;
+        break;
+    case R_VA:
+    case R_VB:
+    case R_VC:
         n = ix->vn + 3 * (size_t)ix->corner[3 * h->slot + (h->region - R_VA)];
         break;
-    default: n = ix->en + 3 * (size_t)ix->edge[3 * h->slot + (h->region - R_AB)]; break;
+    default:
+        n = ix->en + 3 * (size_t)ix->edge[3 * h->slot + (h->region - R_AB)];
+        break;
     }
     for (int k = 0; k < 3; k++) dp[k] = p[k] - h->c[k];
     d = sqrt(h->d2);
@@ -473,8 +499,8 @@ double mesh_signed_distance_bounded(const mesh *m, const double p[3], double dma
 
 #define GRID_MIN_CELLS 32768.0
 #define GRID_MAX_CELLS 8388608.0
-#define GRID_MARGIN 2
-#define GRID_MAX_WORK 64.0 /* lattice points per cell beyond which there is no grid */
+#define GRID_MARGIN    2
+#define GRID_MAX_WORK  64.0 /* lattice points per cell beyond which there is no grid */
 
 /* Mark the cells that triangle j may touch: the cell of every point of a
  * barycentric lattice no coarser than a cell, and their 26 neighbours (a
@@ -524,8 +550,9 @@ static void label_regions(mesh_index *ix)
     const size_t step[3] = {1, ix->gn[0], ix->gn[0] * ix->gn[1]};
     stack = sl_malloc(nc * sizeof *stack, "a sign grid");
     for (size_t seed = 0; seed < nc; seed++) {
-        size_t top = 0, q[3] = {seed % ix->gn[0], seed / ix->gn[0] % ix->gn[1],
-                                seed / (ix->gn[0] * ix->gn[1])};
+        size_t top = 0,
+               q[3] = {seed % ix->gn[0], seed / ix->gn[0] % ix->gn[1],
+                       seed / (ix->gn[0] * ix->gn[1])};
         double p[3];
         int8_t sign;
         hit h;
@@ -536,8 +563,8 @@ static void label_regions(mesh_index *ix)
         ix->gsign[seed] = sign;
         stack[top++] = seed;
         while (top) {
-            size_t c = stack[--top], cc[3] = {c % ix->gn[0], c / ix->gn[0] % ix->gn[1],
-                                              c / (ix->gn[0] * ix->gn[1])};
+            size_t c = stack[--top],
+                   cc[3] = {c % ix->gn[0], c / ix->gn[0] % ix->gn[1], c / (ix->gn[0] * ix->gn[1])};
             for (int d = 0; d < 3; d++)
                 for (int s = -1; s <= 1; s += 2) {
                     size_t o;

@@ -22,7 +22,7 @@ static size_t bucket_of(const mgrid *g, int64_t i, int64_t j, int64_t k)
     /* combine, then the murmur3 finaliser: every input bit reaches the
      * low bits that pick the bucket */
     uint64_t h = (uint64_t)i * 0x9E3779B97F4A7C15ull + (uint64_t)j * 0xC2B2AE3D27D4EB4Full +
-                 (uint64_t)k * 0x165667B19E3779F9ull;
+        (uint64_t)k * 0x165667B19E3779F9ull;
     h ^= h >> 33;
     h *= 0xff51afd7ed558ccdull;
     h ^= h >> 33;
@@ -33,8 +33,7 @@ static size_t bucket_of(const mgrid *g, int64_t i, int64_t j, int64_t k)
 
 static size_t bucket_of_point(const mgrid *g, const double x[3])
 {
-    return bucket_of(g, cell_of(x[0], g->inv_h), cell_of(x[1], g->inv_h),
-                     cell_of(x[2], g->inv_h));
+    return bucket_of(g, cell_of(x[0], g->inv_h), cell_of(x[1], g->inv_h), cell_of(x[2], g->inv_h));
 }
 
 static void rehash(mgrid *g, size_t nb)
@@ -118,8 +117,7 @@ static size_t brute_nearest(const mgrid *g, const double x[3], double r2, size_t
     return best;
 }
 
-size_t mgrid_nearest_within(const mgrid *g, const double x[3], double r, size_t skip,
-                            double *dist)
+size_t mgrid_nearest_within(const mgrid *g, const double x[3], double r, size_t skip, double *dist)
 {
     size_t best = MGRID_NONE;
     double best2 = r * r;
@@ -129,8 +127,7 @@ size_t mgrid_nearest_within(const mgrid *g, const double x[3], double r, size_t 
         best = brute_nearest(g, x, best2, skip, &best2);
     } else {
         int64_t k = (int64_t)span;
-        int64_t c[3] = {cell_of(x[0], g->inv_h), cell_of(x[1], g->inv_h),
-                        cell_of(x[2], g->inv_h)};
+        int64_t c[3] = {cell_of(x[0], g->inv_h), cell_of(x[1], g->inv_h), cell_of(x[2], g->inv_h)};
         for (int64_t i = c[0] - k; i <= c[0] + k; i++)
             for (int64_t j = c[1] - k; j <= c[1] + k; j++)
                 for (int64_t l = c[2] - k; l <= c[2] + k; l++)

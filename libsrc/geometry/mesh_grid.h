@@ -16,12 +16,12 @@
 #define MGRID_NONE ((size_t)-1)
 
 typedef struct mgrid {
-    double h, inv_h;   /* cell size */
-    size_t n, cap;     /* points held, allocated */
-    double *x;         /* 3 * cap coordinates */
-    size_t *next;      /* next point in the same bucket */
-    size_t *head;      /* first point of each bucket */
-    size_t nb;         /* buckets (a power of two) */
+    double h, inv_h; /* cell size */
+    size_t n, cap;   /* points held, allocated */
+    double *x;       /* 3 * cap coordinates */
+    size_t *next;    /* next point in the same bucket */
+    size_t *head;    /* first point of each bucket */
+    size_t nb;       /* buckets (a power of two) */
 } mgrid;
 
 /* h > 0 and finite; `expected` is a hint for the first allocation. */
@@ -32,8 +32,7 @@ size_t mgrid_insert(mgrid *g, const double x[3]);
 /* The point nearest to x among those closer than or at distance r, except
  * point `skip` (MGRID_NONE to skip none); MGRID_NONE if there is none.
  * *dist (may be NULL) receives its distance. */
-size_t mgrid_nearest_within(const mgrid *g, const double x[3], double r, size_t skip,
-                            double *dist);
+size_t mgrid_nearest_within(const mgrid *g, const double x[3], double r, size_t skip, double *dist);
 /* The nearest point other than `skip` at any distance (MGRID_NONE if the
  * grid holds no other point). */
 size_t mgrid_nearest(const mgrid *g, const double x[3], size_t skip, double *dist);

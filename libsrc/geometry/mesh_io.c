@@ -37,7 +37,11 @@ static void quote_token(const char *s, size_t len, char out[48])
 {
     size_t n = len < 40 ? len : 40, i;
     for (i = 0; i < n; i++) out[i] = (s[i] > 0x20 && s[i] < 0x7f) ? s[i] : '?';
-    if (len > 40) { out[i++] = '.'; out[i++] = '.'; out[i++] = '.'; }
+    if (len > 40) {
+        out[i++] = '.';
+        out[i++] = '.';
+        out[i++] = '.';
+    }
     out[i] = '\0';
 }
 
@@ -182,8 +186,7 @@ static int obj_face(obj_reader *r, const char *s)
         r->npoly++;
         s += n;
     }
-    if (r->npoly < 3)
-        return obj_error(r, "face has %zu vertices, expected at least 3", r->npoly);
+    if (r->npoly < 3) return obj_error(r, "face has %zu vertices, expected at least 3", r->npoly);
     for (size_t k = 1; k + 1 < r->npoly; k++) /* fan */
         mesh_add_triangle(r->m, r->poly[0], r->poly[k], r->poly[k + 1]);
     return 0;
@@ -193,10 +196,11 @@ static int obj_face(obj_reader *r, const char *s)
 static int obj_ignored(const char *kw, size_t n)
 {
     static const char *const known[] = {
-        "vt", "vn", "vp", "g", "o", "s", "mg", "usemtl", "mtllib", "l", "p", "cstype", "deg",
-        "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole", "scrv", "sp", "end",
-        "con", "bevel", "c_interp", "d_interp", "lod", "maplib", "usemap", "shadow_obj",
-        "trace_obj", "ctech", "stech", "call", "csh"};
+        "vt",        "vn",    "vp",       "g",        "o",    "s",      "mg",     "usemtl",
+        "mtllib",    "l",     "p",        "cstype",   "deg",  "bmat",   "step",   "curv",
+        "curv2",     "surf",  "parm",     "trim",     "hole", "scrv",   "sp",     "end",
+        "con",       "bevel", "c_interp", "d_interp", "lod",  "maplib", "usemap", "shadow_obj",
+        "trace_obj", "ctech", "stech",    "call",     "csh"};
     for (size_t i = 0; i < sizeof known / sizeof known[0]; i++)
         if (strlen(known[i]) == n && strncmp(kw, known[i], n) == 0) return 1;
     return 0;
@@ -256,8 +260,7 @@ int mesh_read_obj(const char *path, mesh *m, sl_err *err)
             sl_err_set(err,
                        "%s: no faces found; not an OBJ file? (line %ld: unknown statement '%s')",
                        path, r.unknown_line, r.unknown);
-        else
-            sl_err_set(err, "%s: no faces found", path);
+        else sl_err_set(err, "%s: no faces found", path);
         status = 1;
     }
     if (status) {
@@ -316,8 +319,8 @@ static int stl_binary(FILE *f, const char *path, uint32_t n, mesh *m, sl_err *er
                 x[k] = le_float(t + 12 + 4 * k);
                 if (!isfinite(x[k])) {
                     unsigned long long off = 84ull + 50ull * (done + i) + 12u + 4u * (unsigned)k;
-                    sl_err_set(err, "%s: byte %llu: triangle %lu has a non-finite coordinate",
-                               path, off, (unsigned long)(done + i) + 1);
+                    sl_err_set(err, "%s: byte %llu: triangle %lu has a non-finite coordinate", path,
+                               off, (unsigned long)(done + i) + 1);
                     mesh_progress_end(&mp);
                     free(buf);
                     return 1;
@@ -358,8 +361,7 @@ static int stl_error(stl_text *x, const char *what, const char *tok, size_t n)
 {
     char q[48];
     quote_token(tok, n, q);
-    if (n)
-        sl_err_set(x->err, "%s:%ld: expected %s, found '%s'", x->path, x->line, what, q);
+    if (n) sl_err_set(x->err, "%s:%ld: expected %s, found '%s'", x->path, x->line, what, q);
     else
         sl_err_set(x->err, "%s:%ld: expected %s, found the end of the file", x->path, x->line,
                    what);
@@ -510,7 +512,7 @@ static int stl_dispatch(FILE *f, const char *path, unsigned long long size, mesh
                            "not an ascii STL (%s)",
                            path, (unsigned long)n, want, size,
                            has_binary_bytes(text, (size_t)size) ? "binary bytes"
-                                                                 : "no 'solid' at the start");
+                                                                : "no 'solid' at the start");
             else
                 sl_err_set(err,
                            "%s: byte 0: not an STL file: %llu bytes are too few for a binary "

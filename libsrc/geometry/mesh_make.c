@@ -85,18 +85,20 @@ static void subdivide_unit(mesh *m)
 
 int mesh_make_sphere(mesh *m, const double centre[3], double radius, int level, sl_err *err)
 {
-    static const int face[20][3] = {
-        {0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-        {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-        {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+    static const int face[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                    {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                    {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                    {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
     const double g = 0.5 * (1.0 + sqrt(5.0)), s = 1.0 / sqrt(1.0 + g * g);
     const double v[12][3] = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0},
                              {0, -1, g}, {0, 1, g}, {0, -1, -g}, {0, 1, -g},
                              {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
     mesh_init(m);
     if (!finite3(centre) || !(radius > 0.0) || !isfinite(radius) || level < 0 || level > 9) {
-        sl_err_set(err, "sphere: expected a finite centre, radius > 0 and level 0..9, "
-                        "found radius %g, level %d", radius, level);
+        sl_err_set(err,
+                   "sphere: expected a finite centre, radius > 0 and level 0..9, "
+                   "found radius %g, level %d",
+                   radius, level);
         return 1;
     }
     for (int i = 0; i < 12; i++) mesh_add_vertex(m, s * v[i][0], s * v[i][1], s * v[i][2]);
@@ -122,8 +124,9 @@ int mesh_make_cylinder(mesh *m, const double a[3], const double b[3], double rad
     len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
     if (!finite3(a) || !finite3(b) || !(len > 0.0) || !isfinite(len) || !(radius > 0.0) ||
         !isfinite(radius) || nseg < 3 || nseg > 1000000) {
-        sl_err_set(err, "cylinder: expected finite, distinct cap centres, radius > 0 and "
-                        "3..1000000 segments, found length %g, radius %g, %d segments",
+        sl_err_set(err,
+                   "cylinder: expected finite, distinct cap centres, radius > 0 and "
+                   "3..1000000 segments, found length %g, radius %g, %d segments",
                    len, radius, nseg);
         return 1;
     }

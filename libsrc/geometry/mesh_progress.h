@@ -16,13 +16,13 @@
 
 #include "core/sl_progress.h"
 
-#define MESH_PROGRESS_MIN 100000
+#define MESH_PROGRESS_MIN   100000
 #define MESH_PROGRESS_EVERY 4096
 
 typedef struct mesh_progress {
     sl_progress p;
     int on;
-    size_t next;      /* the next count at which the clock is read */
+    size_t next; /* the next count at which the clock is read */
     char what[192];
 } mesh_progress;
 

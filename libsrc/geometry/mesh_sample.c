@@ -12,19 +12,19 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FEATURE_SPACING 0.6 /* feature particles closer than this * r0 are skipped */
-#define MAX_OFFSET 3.0      /* a vertex moves at most this * r0/2 (sharp spikes) */
-#define REGULARISE 1e-4     /* weight of the pseudo-normal in the vertex offset */
-#define MAX_PARTICLES 4e9   /* beyond 32-bit particle ids: surely a unit error */
-#define RELAX_RANGE 1.25    /* relaxation: particles closer than this * r0 repel */
-#define RELAX_GAIN 0.2      /* relaxation: fraction of the overlap removed per sweep */
-#define RELAX_STEP 0.2      /* relaxation: largest move per sweep, * r0 */
-#define RELAX_SKIN 0.3      /* relaxation: neighbour-list margin, * r0 */
+#define FEATURE_SPACING 0.6  /* feature particles closer than this * r0 are skipped */
+#define MAX_OFFSET      3.0  /* a vertex moves at most this * r0/2 (sharp spikes) */
+#define REGULARISE      1e-4 /* weight of the pseudo-normal in the vertex offset */
+#define MAX_PARTICLES   4e9  /* beyond 32-bit particle ids: surely a unit error */
+#define RELAX_RANGE     1.25 /* relaxation: particles closer than this * r0 repel */
+#define RELAX_GAIN      0.2  /* relaxation: fraction of the overlap removed per sweep */
+#define RELAX_STEP      0.2  /* relaxation: largest move per sweep, * r0 */
+#define RELAX_SKIN      0.3  /* relaxation: neighbour-list margin, * r0 */
 
 typedef struct sampler {
     const mesh *m;
     double r0, cos_crease;
-    double sign;     /* +1 obstacle, -1 container */
+    double sign; /* +1 obstacle, -1 container */
     mesh_topology tp;
     double *fn;      /* 3 per triangle: unit normal into the fluid */
     double *angle;   /* 3 per triangle: interior angle at each corner */
@@ -54,8 +54,13 @@ static void normalise(double *a)
 
 msample_params msample_defaults(double r0, msample_side side)
 {
-    msample_params p = {.r0 = r0, .side = side, .min_spacing = 0.8, .crease_angle = 30.0,
-                        .darts = 10.0, .relax = 20, .seed = 1};
+    msample_params p = {.r0 = r0,
+                        .side = side,
+                        .min_spacing = 0.8,
+                        .crease_angle = 30.0,
+                        .darts = 10.0,
+                        .relax = 20,
+                        .seed = 1};
     return p;
 }
 
@@ -235,7 +240,10 @@ static void mark_features(sampler *s)
     const mesh_topology *tp = &s->tp;
     s->feat = sl_calloc(tp->ne ? tp->ne : 1, 1, "feature edges");
     for (size_t e = 0; e < tp->ne; e++) {
-        if (tp->ecount[e] != 2) { s->feat[e] = 1; continue; }
+        if (tp->ecount[e] != 2) {
+            s->feat[e] = 1;
+            continue;
+        }
         s->feat[e] = dot3(s->fn + 3 * (size_t)tp->et[2 * e],
                           s->fn + 3 * (size_t)tp->et[2 * e + 1]) < s->cos_crease;
     }
@@ -310,8 +318,8 @@ static void feature_adjacency(sampler *s)
             s->fdeg[tp->ev[2 * e + 1]]++;
         }
     for (size_t v = 0; v < nv; v++) s->fstart[v + 1] = s->fstart[v] + s->fdeg[v];
-    s->fedge = sl_malloc((s->fstart[nv] ? s->fstart[nv] : 1) * sizeof *s->fedge,
-                         "feature adjacency");
+    s->fedge =
+        sl_malloc((s->fstart[nv] ? s->fstart[nv] : 1) * sizeof *s->fedge, "feature adjacency");
     memset(s->fdeg, 0, (nv + 1) * sizeof *s->fdeg);
     for (size_t e = 0; e < tp->ne; e++)
         if (s->feat[e])
@@ -469,8 +477,7 @@ static double offset_area(const sampler *s, size_t j)
     const double *a = s->off + 3 * t[0], *b = s->off + 3 * t[1], *c = s->off + 3 * t[2];
     double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
     double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double x[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-                   u[0] * w[1] - u[1] * w[0]};
+    double x[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
     return 0.5 * sqrt(dot3(x, x));
 }
 
@@ -491,8 +498,7 @@ static int cmp_keyed(const void *pa, const void *pb)
 /* perm[0..n) = the points x (3 per point) in Z-order inside [lo, hi]:
  * neighbours in space become neighbours in memory, which is what keeps the
  * grid and hierarchy queries below in cache. */
-static void z_order(const double *x, size_t n, const double lo[3], const double hi[3],
-                    size_t *perm)
+static void z_order(const double *x, size_t n, const double lo[3], const double hi[3], size_t *perm)
 {
     keyed *k = sl_malloc((n ? n : 1) * sizeof *k, "a spatial order");
     for (size_t i = 0; i < n; i++) {
@@ -530,9 +536,10 @@ static void sample_faces(sampler *s, const msample_params *p)
     }
     for (size_t j = 0; j < m->nt; j++)
         for (int d = 0; d < 3; d++)
-            cen[3 * j + d] = (s->off[3 * (size_t)m->t[3 * j] + d] +
-                              s->off[3 * (size_t)m->t[3 * j + 1] + d] +
-                              s->off[3 * (size_t)m->t[3 * j + 2] + d]) / 3.0;
+            cen[3 * j + d] =
+                (s->off[3 * (size_t)m->t[3 * j] + d] + s->off[3 * (size_t)m->t[3 * j + 1] + d] +
+                 s->off[3 * (size_t)m->t[3 * j + 2] + d]) /
+                3.0;
     z_order(cen, m->nt, lo, hi, order);
     mesh_progress mp;
     mesh_progress_start(&mp, m->nt, "sampling a mesh of %zu triangles", m->nt);
@@ -563,10 +570,10 @@ static void sample_faces(sampler *s, const msample_params *p)
 /* Neighbour lists (compressed rows) of the particles [nfixed, np) within
  * range + skin, kept until some particle has moved by skin / 2 (Verlet). */
 typedef struct verlet {
-    size_t *start;  /* np - nfixed + 1 */
-    uint32_t *nbr;  /* neighbour ids */
+    size_t *start; /* np - nfixed + 1 */
+    uint32_t *nbr; /* neighbour ids */
     size_t cap;
-    double *x0;     /* positions when built */
+    double *x0; /* positions when built */
 } verlet;
 
 typedef struct list_ctx {
@@ -647,8 +654,10 @@ static void relax(sampler *s, int sweeps, size_t nfixed, double *x, double *n, s
     memcpy(off.v, s->off, 3 * m->nv * sizeof *off.v);
     mesh_index_build(&off);
     mesh_progress mp;
-    mesh_progress_start(&mp, (size_t)sweeps * (np - nfixed), "relaxing %zu boundary particles "
-                        "(%d sweeps)", np - nfixed, sweeps);
+    mesh_progress_start(&mp, (size_t)sweeps * (np - nfixed),
+                        "relaxing %zu boundary particles "
+                        "(%d sweeps)",
+                        np - nfixed, sweeps);
     for (int it = 0; it < sweeps; it++) {
         double moved2 = 0.0;
         mesh_progress_at(&mp, (size_t)it * (np - nfixed));
@@ -672,14 +681,14 @@ static void relax(sampler *s, int sweeps, size_t nfixed, double *x, double *n, s
             /* xi was on the surface: its new closest point is within the move */
             len = sqrt((q[0] - xi[0]) * (q[0] - xi[0]) + (q[1] - xi[1]) * (q[1] - xi[1]) +
                        (q[2] - xi[2]) * (q[2] - xi[2]));
-            if (isinf(mesh_closest_point_within(&off, q, 1.001 * len + 1e-9 * s->r0, y + 3 * i,
-                                                &j)))
+            if (isinf(
+                    mesh_closest_point_within(&off, q, 1.001 * len + 1e-9 * s->r0, y + 3 * i, &j)))
                 mesh_closest_point(&off, q, y + 3 * i, &j);
             t = m->t + 3 * j;
             barycentric(off.v + 3 * t[0], off.v + 3 * t[1], off.v + 3 * t[2], y + 3 * i, w);
             for (int d = 0; d < 3; d++)
                 n[3 * i + d] = w[0] * s->cn[9 * j + d] + w[1] * s->cn[9 * j + 3 + d] +
-                               w[2] * s->cn[9 * j + 6 + d];
+                    w[2] * s->cn[9 * j + 6 + d];
             normalise(n + 3 * i);
         }
         memcpy(x, y, 3 * np * sizeof *y);
@@ -734,17 +743,19 @@ static int check_params(const mesh *m, const msample_params *p, sl_err *err)
         return 1;
     }
     if (!(p->min_spacing > 0.0 && p->min_spacing < 2.0) || !(p->darts > 0.0 && p->darts < 1e4) ||
-        !(p->crease_angle >= 0.0 && p->crease_angle <= 180.0) || p->relax < 0 ||
-        p->relax > 1000) {
-        sl_err_set(err, "mesh sampling: min_spacing %g (0..2), darts %g (0..1e4), "
-                        "crease_angle %g (0..180 degrees) or relax %d (0..1000) out of range",
+        !(p->crease_angle >= 0.0 && p->crease_angle <= 180.0) || p->relax < 0 || p->relax > 1000) {
+        sl_err_set(err,
+                   "mesh sampling: min_spacing %g (0..2), darts %g (0..1e4), "
+                   "crease_angle %g (0..180 degrees) or relax %d (0..1000) out of range",
                    p->min_spacing, p->darts, p->crease_angle, p->relax);
         return 1;
     }
     for (size_t i = 0; i < 3 * m->nt; i++)
         if (m->t[i] >= m->nv) {
-            sl_err_set(err, "mesh sampling: triangle %zu uses vertex %lu of %zu (validate the "
-                            "mesh first)", i / 3 + 1, (unsigned long)m->t[i] + 1, m->nv);
+            sl_err_set(err,
+                       "mesh sampling: triangle %zu uses vertex %lu of %zu (validate the "
+                       "mesh first)",
+                       i / 3 + 1, (unsigned long)m->t[i] + 1, m->nv);
             return 1;
         }
     area = mesh_area(m);
@@ -753,9 +764,10 @@ static int check_params(const mesh *m, const msample_params *p, sl_err *err)
         return 1;
     }
     if (area / (p->r0 * p->r0) > MAX_PARTICLES) {
-        sl_err_set(err, "mesh sampling: area %g at spacing r0 = %g needs about %.3g particles "
-                        "(more than %.0g): wrong units?", area, p->r0, area / (p->r0 * p->r0),
-                   MAX_PARTICLES);
+        sl_err_set(err,
+                   "mesh sampling: area %g at spacing r0 = %g needs about %.3g particles "
+                   "(more than %.0g): wrong units?",
+                   area, p->r0, area / (p->r0 * p->r0), MAX_PARTICLES);
         return 1;
     }
     return 0;
@@ -802,8 +814,8 @@ int msample_surface(const mesh *m, const msample_params *p, uint32_t body, sl_bo
                    0.5 * p->r0, clamped, turned, tc.rim, tc.thin, tc.fine);
     else if (tc.fine)
         sl_info("mesh sampling: %zu triangles finer than r0 fold over next to sharp edges when "
-                "offset by r0/2 = %g (the sampled offset surface keeps the edges)", tc.fine,
-                0.5 * p->r0);
+                "offset by r0/2 = %g (the sampled offset surface keeps the edges)",
+                tc.fine, 0.5 * p->r0);
     mark_features(&s);
     corner_normals(&s);
     feature_adjacency(&s);

@@ -59,7 +59,7 @@ typedef enum {
 } msample_side;
 
 typedef struct msample_params {
-    double r0;           /* particle spacing */
+    double r0; /* particle spacing */
     msample_side side;
     double min_spacing;  /* Poisson-disk radius / r0 (default 0.8) */
     double crease_angle; /* degrees; sharper edges are sampled as lines (default 30) */

@@ -14,7 +14,7 @@
 #include "core/sl_log.h"
 
 typedef struct afile {
-    FILE *f;   /* the temp file; NULL once committed or aborted */
+    FILE *f;    /* the temp file; NULL once committed or aborted */
     char *path; /* final path */
     char *tmp;  /* "<path>.tmp.<pid>" */
 } afile;

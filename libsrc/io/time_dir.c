@@ -119,8 +119,7 @@ static tdir_entry *tdir_scan(DIR *d, const char *case_dir, const char *marker, s
     return e;
 }
 
-int tdir_list_read(const char *case_dir, const char *complete_marker, tdir_list *out,
-                   sl_err *err)
+int tdir_list_read(const char *case_dir, const char *complete_marker, tdir_list *out, sl_err *err)
 {
     DIR *d = opendir(case_dir);
     tdir_entry *e;
@@ -198,8 +197,10 @@ static int tdir_spec_match(const char *spec, double t)
 int tdir_select(tdir_list *l, const char *spec, int latest, int with_first, sl_err *err)
 {
     if (spec && tdir_spec_match(spec, 0.0) < 0) {
-        sl_err_set(err, "-time '%s': expected times and ranges such as 0.5, 0.5:1, :1, 0.5: "
-                        "separated by commas", spec);
+        sl_err_set(err,
+                   "-time '%s': expected times and ranges such as 0.5, 0.5:1, :1, 0.5: "
+                   "separated by commas",
+                   spec);
         return 1;
     }
     size_t k = 0;
@@ -296,7 +297,8 @@ size_t tdir_remove_stale(const char *case_dir, char *names, size_t len)
         tdir_remove_tree(p);
         free(p);
         n++;
-        if (off < len) off += (size_t)snprintf(names + off, len - off, "%s%s", off ? " " : "", e->d_name);
+        if (off < len)
+            off += (size_t)snprintf(names + off, len - off, "%s%s", off ? " " : "", e->d_name);
     }
     closedir(d);
     return n;

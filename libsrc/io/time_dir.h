@@ -35,8 +35,7 @@ typedef struct tdir_list {
  * written; with complete_marker != NULL only those holding a regular file of
  * that name.  Returns 0, or nonzero with err filled and *out empty.  Free the
  * list with tdir_list_free. */
-int tdir_list_read(const char *case_dir, const char *complete_marker, tdir_list *out,
-                   sl_err *err);
+int tdir_list_read(const char *case_dir, const char *complete_marker, tdir_list *out, sl_err *err);
 void tdir_list_free(tdir_list *l);
 
 /* OpenFOAM's time selection (timeSelector): keep in l the times that spec

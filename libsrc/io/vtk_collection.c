@@ -18,12 +18,9 @@ static void vtk_json_escape(FILE *f, const char *s)
 {
     for (; *s; s++) {
         unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(f, "\\%c", c);
-        else if (c < 0x20)
-            fprintf(f, "\\u%04x", (unsigned)c);
-        else
-            fputc(c, f);
+        if (c == '"' || c == '\\') fprintf(f, "\\%c", c);
+        else if (c < 0x20) fprintf(f, "\\u%04x", (unsigned)c);
+        else fputc(c, f);
     }
 }
 
@@ -43,8 +40,7 @@ static void vtk_collection_pvd(FILE *f, const double *times, const char *const *
     fputs("  </Collection>\n</VTKFile>\n", f);
 }
 
-static void vtk_collection_series(FILE *f, const double *times, const char *const *files,
-                                  size_t n)
+static void vtk_collection_series(FILE *f, const double *times, const char *const *files, size_t n)
 {
     char t[40];
     fputs("{\n  \"file-series-version\" : \"1.0\",\n  \"files\" : [", f);

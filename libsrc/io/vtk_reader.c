@@ -34,7 +34,7 @@
 #include <zlib.h>
 
 const char *const vtkr_type_names[T_NTYPES] = {"Float64", "Float32", "Int32",
-                                              "UInt32",  "Int64",   "UInt8"};
+                                               "UInt32",  "Int64",   "UInt8"};
 const size_t vtkr_type_sizes[T_NTYPES] = {8, 4, 4, 4, 8, 1};
 
 int vtkr_fail(rd *r, const char *fmt, ...)
@@ -74,7 +74,8 @@ static int check_cells(rd *r)
         return vtkr_fail(r, "cell offsets end at %.17g, connectivity holds %zu", prev, c->nvalues);
     for (size_t i = 0; i < c->nvalues; i++)
         if (!(c->data[i] >= 0 && c->data[i] < (double)r->npoints))
-            return vtkr_fail(r, "connectivity entry %zu (%.17g) is not a point index", i, c->data[i]);
+            return vtkr_fail(r, "connectivity entry %zu (%.17g) is not a point index", i,
+                             c->data[i]);
     return 0;
 }
 
@@ -122,7 +123,7 @@ int vtkr_read(const char *path, vtkr_file *out, sl_err *err)
     r.path = path;
     r.err = err;
     int rc = vtkr_slurp(&r) || vtkr_parse_document(&r) || vtkr_decode_all(&r) || check_cells(&r) ||
-             collect(&r, out);
+        collect(&r, out);
     for (size_t i = 0; i < r.nd; i++) {
         free(r.d[i].name);
         free(r.d[i].data);

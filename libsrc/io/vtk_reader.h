@@ -36,10 +36,10 @@ typedef struct vtkr_array {
 
 typedef struct vtkr_file {
     size_t npoints;
-    double *points;      /* points[3 i + k], k = x, y, z */
-    double time;         /* FieldData TimeValue, NAN if absent */
+    double *points; /* points[3 i + k], k = x, y, z */
+    double time;    /* FieldData TimeValue, NAN if absent */
     size_t narrays;
-    vtkr_array *arrays;  /* point data in file order */
+    vtkr_array *arrays; /* point data in file order */
 } vtkr_file;
 
 /* Returns 0, or nonzero with err filled ("<path>: <reason>") and *out

@@ -22,13 +22,24 @@ static double value_at(vtkr_type t, const unsigned char *p)
     uint32_t u32;
     int64_t i64;
     switch (t) {
-    case T_F64: memcpy(&d, p, 8); return d;
-    case T_F32: memcpy(&f, p, 4); return (double)f;
-    case T_I32: memcpy(&i32, p, 4); return (double)i32;
-    case T_U32: memcpy(&u32, p, 4); return (double)u32;
-    case T_I64: memcpy(&i64, p, 8); return (double)i64;
+    case T_F64:
+        memcpy(&d, p, 8);
+        return d;
+    case T_F32:
+        memcpy(&f, p, 4);
+        return (double)f;
+    case T_I32:
+        memcpy(&i32, p, 4);
+        return (double)i32;
+    case T_U32:
+        memcpy(&u32, p, 4);
+        return (double)u32;
+    case T_I64:
+        memcpy(&i64, p, 8);
+        return (double)i64;
     case T_U8:
-    case T_NTYPES: break;
+    case T_NTYPES:
+        break;
     }
     return (double)*p;
 }
@@ -38,14 +49,15 @@ static int check_nbytes(rd *r, desc *d, uint64_t nbytes)
 {
     size_t es = vtkr_type_sizes[d->type], ts = es * (size_t)d->ncomp, want;
     if (!d->known) {
-        if (nbytes % ts) return vtkr_fail(r, "array '%s': %llu bytes is not a whole number of values",
-                                     d->name, (unsigned long long)nbytes);
+        if (nbytes % ts)
+            return vtkr_fail(r, "array '%s': %llu bytes is not a whole number of values", d->name,
+                             (unsigned long long)nbytes);
         d->ntuples = (size_t)(nbytes / ts);
         return 0;
     }
     if (__builtin_mul_overflow(d->ntuples, ts, &want) || nbytes != want)
-        return vtkr_fail(r, "array '%s': holds %llu bytes, expected %zu tuples of %zu bytes", d->name,
-                    (unsigned long long)nbytes, d->ntuples, ts);
+        return vtkr_fail(r, "array '%s': holds %llu bytes, expected %zu tuples of %zu bytes",
+                         d->name, (unsigned long long)nbytes, d->ntuples, ts);
     return 0;
 }
 
@@ -66,8 +78,8 @@ static void convert(desc *d, const unsigned char *bytes)
 static int read_u64(rd *r, const desc *d, size_t at, uint64_t *v)
 {
     if (at > r->dend || r->dend - at < 8)
-        return vtkr_fail(r, "array '%s': header runs past the end of the appended data (truncated?)",
-                    d->name);
+        return vtkr_fail(
+            r, "array '%s': header runs past the end of the appended data (truncated?)", d->name);
     memcpy(v, r->buf + at, 8);
     return 0;
 }
@@ -80,7 +92,7 @@ static int decode_raw(rd *r, desc *d, size_t at, size_t *end)
     at += 8;
     if (nbytes > r->dend - at)
         return vtkr_fail(r, "array '%s': data run past the end of the appended data (truncated?)",
-                    d->name);
+                         d->name);
     if (alloc_values(r, d)) return 1;
     convert(d, (const unsigned char *)r->buf + at);
     *end = at + (size_t)nbytes;
@@ -94,13 +106,14 @@ static int decode_zlib(rd *r, desc *d, size_t at, size_t *end)
     if (read_u64(r, d, at, &nb) || read_u64(r, d, at + 8, &bs) || read_u64(r, d, at + 16, &last))
         return 1;
     size_t avail = r->dend - at - 24;
-    if (nb > avail / 8) return vtkr_fail(r, "array '%s': block count %llu runs past the end of the data",
-                                    d->name, (unsigned long long)nb);
+    if (nb > avail / 8)
+        return vtkr_fail(r, "array '%s': block count %llu runs past the end of the data", d->name,
+                         (unsigned long long)nb);
     const size_t hdr = at + 24, data = hdr + 8 * (size_t)nb;
     if (nb > 0) {
         if (bs == 0 || last >= bs)
-            return vtkr_fail(r, "array '%s': bad compression header (block %llu, last %llu)", d->name,
-                        (unsigned long long)bs, (unsigned long long)last);
+            return vtkr_fail(r, "array '%s': bad compression header (block %llu, last %llu)",
+                             d->name, (unsigned long long)bs, (unsigned long long)last);
         if (__builtin_mul_overflow(nb - 1, bs, &total) ||
             __builtin_add_overflow(total, last ? last : bs, &total))
             return vtkr_fail(r, "array '%s': bad compression header", d->name);
@@ -109,13 +122,15 @@ static int decode_zlib(rd *r, desc *d, size_t at, size_t *end)
         uint64_t c;
         memcpy(&c, r->buf + hdr + 8 * b, 8);
         if (c > avail || __builtin_add_overflow(csum, c, &csum) || csum > r->dend - data)
-            return vtkr_fail(r, "array '%s': compressed blocks run past the end of the appended data "
-                        "(truncated?)", d->name);
+            return vtkr_fail(r,
+                             "array '%s': compressed blocks run past the end of the appended data "
+                             "(truncated?)",
+                             d->name);
     }
     if (check_nbytes(r, d, total)) return 1;
     if (total / VTKR_MAX_RATIO > csum + 64 * nb)
         return vtkr_fail(r, "array '%s': %llu compressed bytes cannot hold %llu bytes", d->name,
-                    (unsigned long long)csum, (unsigned long long)total);
+                         (unsigned long long)csum, (unsigned long long)total);
     unsigned char *raw = malloc(total ? (size_t)total : 1);
     if (!raw) return vtkr_fail(r, "array '%s': out of memory", d->name);
     size_t src = data;
@@ -127,9 +142,11 @@ static int decode_zlib(rd *r, desc *d, size_t at, size_t *end)
         int rc = uncompress2(raw + b * bs, &got, (const Bytef *)r->buf + src, &used);
         if (rc != Z_OK || got != want || used != c) {
             free(raw);
-            return vtkr_fail(r, "array '%s': block %llu of %llu does not inflate to its %lu bytes "
-                        "(corrupt data)", d->name, (unsigned long long)b + 1,
-                        (unsigned long long)nb, (unsigned long)want);
+            return vtkr_fail(r,
+                             "array '%s': block %llu of %llu does not inflate to its %lu bytes "
+                             "(corrupt data)",
+                             d->name, (unsigned long long)b + 1, (unsigned long long)nb,
+                             (unsigned long)want);
         }
         src += (size_t)c;
     }
@@ -185,13 +202,14 @@ static int decode_ascii(rd *r, desc *d)
             (size_t)(next - r->buf) > d->tend ||
             ((size_t)(next - r->buf) < d->tend && !vtkr_is_ws(*next)))
             return vtkr_fail(r, "array '%s': value %zu is not a valid %s", d->name, n + 1,
-                        vtkr_type_names[d->type]);
+                             vtkr_type_names[d->type]);
         pos = (size_t)(next - r->buf);
         n++;
     }
     if (!d->known) {
         if (n % (size_t)d->ncomp)
-            return vtkr_fail(r, "array '%s': %zu values is not a whole number of tuples", d->name, n);
+            return vtkr_fail(r, "array '%s': %zu values is not a whole number of tuples", d->name,
+                             n);
         d->ntuples = n / (size_t)d->ncomp;
     } else if (n != cap) {
         return vtkr_fail(r, "array '%s': %zu values, expected %zu", d->name, n, cap);
@@ -211,8 +229,10 @@ int vtkr_decode_all(rd *r)
         }
         size_t end;
         if (d->offset > r->dend - r->dbeg)
-            return vtkr_fail(r, "array '%s': offset %zu is past the end of the appended data "
-                        "(truncated?)", d->name, d->offset);
+            return vtkr_fail(r,
+                             "array '%s': offset %zu is past the end of the appended data "
+                             "(truncated?)",
+                             d->name, d->offset);
         if ((r->compress ? decode_zlib : decode_raw)(r, d, r->dbeg + d->offset, &end)) return 1;
         if (end > last_end) last_end = end;
     }

@@ -19,9 +19,9 @@
 #define VTKR_HOST_ORDER "LittleEndian"
 #endif
 
-#define VTKR_MAX_ATTR 16   /* more attributes on one tag is an error */
-#define VTKR_MAX_NAME 32   /* element and attribute names */
-#define VTKR_MAX_COMP 64   /* components per tuple */
+#define VTKR_MAX_ATTR 16 /* more attributes on one tag is an error */
+#define VTKR_MAX_NAME 32 /* element and attribute names */
+#define VTKR_MAX_COMP 64 /* components per tuple */
 /* deflate cannot shrink data by more than about 1032:1; a header that
  * claims more is corrupt (and is not allowed to make us allocate). */
 #define VTKR_MAX_RATIO 1040
@@ -40,11 +40,11 @@ typedef struct desc {
     char *name;
     vtkr_type type;
     int ncomp;
-    int known;            /* ntuples given by the file structure */
+    int known; /* ntuples given by the file structure */
     size_t ntuples;
     int ascii;
-    size_t offset;        /* appended: from the start of the appended data */
-    size_t tbeg, tend;    /* ascii: the text between the tags */
+    size_t offset;     /* appended: from the start of the appended data */
+    size_t tbeg, tend; /* ascii: the text between the tags */
     double *data;
     size_t nvalues;
 } desc;

@@ -43,8 +43,8 @@ int vtkr_is_ws(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r';
 
 static int is_name_char(char c)
 {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-           c == '_' || c == ':' || c == '-' || c == '.';
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+        c == ':' || c == '-' || c == '.';
 }
 
 static void skip_ws(rd *r)
@@ -79,7 +79,10 @@ static int read_attrs(rd *r, tag *t)
         if (r->pos >= r->len)
             return vtkr_fail(r, "unexpected end of file in <%s> (truncated?)", t->name);
         char c = r->buf[r->pos];
-        if (c == '>') { r->pos++; return 0; }
+        if (c == '>') {
+            r->pos++;
+            return 0;
+        }
         if (c == '/') {
             if (r->pos + 1 >= r->len || r->buf[r->pos + 1] != '>')
                 return vtkr_fail(r, "expected '/>' at byte %zu", r->pos);
@@ -99,7 +102,7 @@ static int read_attrs(rd *r, tag *t)
         char q = r->pos < r->len ? r->buf[r->pos] : '\0';
         if (q != '"' && q != '\'')
             return vtkr_fail(r, "expected a quoted value for attribute '%s' at byte %zu", a->key,
-                        r->pos);
+                             r->pos);
         size_t b = ++r->pos;
         while (r->pos < r->len && r->buf[r->pos] != q && r->buf[r->pos] != '<') r->pos++;
         if (r->pos >= r->len || r->buf[r->pos] != q)
@@ -157,25 +160,18 @@ static int attr_is(const attr *a, const char *s)
     return a && a->vlen == strlen(s) && !memcmp(a->val, s, a->vlen);
 }
 
-static int is_open(const tag *t, const char *name)
-{
-    return !t->closing && !strcmp(t->name, name);
-}
+static int is_open(const tag *t, const char *name) { return !t->closing && !strcmp(t->name, name); }
 
-static int is_close(const tag *t, const char *name)
-{
-    return t->closing && !strcmp(t->name, name);
-}
+static int is_close(const tag *t, const char *name) { return t->closing && !strcmp(t->name, name); }
 
 static int unexpected(rd *r, const tag *t, const char *where)
 {
-    return vtkr_fail(r, "unexpected <%s%s> in %s at byte %zu", t->closing ? "/" : "", t->name, where,
-                t->at);
+    return vtkr_fail(r, "unexpected <%s%s> in %s at byte %zu", t->closing ? "/" : "", t->name,
+                     where, t->at);
 }
 
 /* A decimal size attribute: digits only, no overflow. */
-static int attr_size(rd *r, const tag *t, const char *key, int required, size_t def,
-                     size_t *out)
+static int attr_size(rd *r, const tag *t, const char *key, int required, size_t def, size_t *out)
 {
     const attr *a = find_attr(t, key);
     if (!a) {
@@ -188,8 +184,8 @@ static int attr_size(rd *r, const tag *t, const char *key, int required, size_t 
     for (size_t i = 0; i < a->vlen; i++) {
         unsigned c = (unsigned char)a->val[i];
         if (c < '0' || c > '9' || v > (SIZE_MAX - (c - '0')) / 10)
-            return vtkr_fail(r, "<%s> at byte %zu: %s=\"%.*s\" is not a valid count", t->name, t->at,
-                        key, (int)(a->vlen < 40 ? a->vlen : 40), a->val);
+            return vtkr_fail(r, "<%s> at byte %zu: %s=\"%.*s\" is not a valid count", t->name,
+                             t->at, key, (int)(a->vlen < 40 ? a->vlen : 40), a->val);
         v = 10 * v + (c - '0');
     }
     *out = v;
@@ -228,10 +224,10 @@ static char *decode_text(rd *r, const attr *a)
             unsigned long v = 0;
             int hex = p[1] == 'x', base = hex ? 16 : 10;
             for (j = hex ? 2 : 1; j < left && j < 10 && p[j] != ';'; j++) {
-                int dig = p[j] >= '0' && p[j] <= '9'   ? p[j] - '0'
-                          : hex && p[j] >= 'a' && p[j] <= 'f' ? p[j] - 'a' + 10
-                          : hex && p[j] >= 'A' && p[j] <= 'F' ? p[j] - 'A' + 10
-                                                               : -1;
+                int dig = p[j] >= '0' && p[j] <= '9'    ? p[j] - '0'
+                    : hex && p[j] >= 'a' && p[j] <= 'f' ? p[j] - 'a' + 10
+                    : hex && p[j] >= 'A' && p[j] <= 'F' ? p[j] - 'A' + 10
+                                                        : -1;
                 if (dig < 0) break;
                 v = v * (unsigned long)base + (unsigned long)dig;
             }
@@ -285,7 +281,7 @@ static int parse_data_array(rd *r, const tag *t, vtkr_section sec, size_t ntuple
         if (attr_is(ty, vtkr_type_names[k])) d->type = (vtkr_type)k;
     if (d->type == T_NTYPES)
         return vtkr_fail(r, "array '%s': unsupported type \"%.*s\"", d->name,
-                    (int)(ty->vlen < 40 ? ty->vlen : 40), ty->val);
+                         (int)(ty->vlen < 40 ? ty->vlen : 40), ty->val);
     if (attr_size(r, t, "NumberOfComponents", 0, 1, &nc)) return 1;
     if (nc < 1 || nc > VTKR_MAX_COMP)
         return vtkr_fail(r, "array '%s': NumberOfComponents %zu out of range", d->name, nc);
@@ -302,7 +298,7 @@ static int parse_data_array(rd *r, const tag *t, vtkr_section sec, size_t ntuple
             if (attr_size(r, t, "NumberOfTuples", 1, 0, &nt)) return 1;
             if (known && nt != ntuples)
                 return vtkr_fail(r, "array '%s': NumberOfTuples %zu, expected %zu", d->name, nt,
-                            ntuples);
+                                 ntuples);
         }
     }
     if (attr_is(fm, "ascii")) {
@@ -414,7 +410,8 @@ static int parse_appended(rd *r, const tag *t)
         return vtkr_fail(r, "expected '_' at the start of the appended data (byte %zu)", r->pos);
     r->dbeg = r->pos + 1;
     size_t end = rfind(r->buf, r->dbeg, r->len, "</AppendedData>");
-    if (end == SIZE_MAX) return vtkr_fail(r, "no </AppendedData> at the end of the file (truncated?)");
+    if (end == SIZE_MAX)
+        return vtkr_fail(r, "no </AppendedData> at the end of the file (truncated?)");
     r->dend = end;
     r->pos = end;
     tag c;
@@ -429,7 +426,8 @@ int vtkr_parse_document(rd *r)
 {
     tag t;
     if (next_tag(r, &t)) return 1;
-    if (!is_open(&t, "VTKFile") || t.empty) return vtkr_fail(r, "not a VTK XML file (no <VTKFile>)");
+    if (!is_open(&t, "VTKFile") || t.empty)
+        return vtkr_fail(r, "not a VTK XML file (no <VTKFile>)");
     if (!attr_is(find_attr(&t, "type"), "UnstructuredGrid"))
         return vtkr_fail(r, "not an UnstructuredGrid file");
     if (!attr_is(find_attr(&t, "byte_order"), VTKR_HOST_ORDER))
@@ -438,8 +436,8 @@ int vtkr_parse_document(rd *r)
         return vtkr_fail(r, "header_type must be UInt64");
     const attr *cmp = find_attr(&t, "compressor");
     if (cmp && !attr_is(cmp, "vtkZLibDataCompressor"))
-        return vtkr_fail(r, "unsupported compressor \"%.*s\"", (int)(cmp->vlen < 40 ? cmp->vlen : 40),
-                    cmp->val);
+        return vtkr_fail(r, "unsupported compressor \"%.*s\"",
+                         (int)(cmp->vlen < 40 ? cmp->vlen : 40), cmp->val);
     r->compress = cmp != NULL;
     if (next_tag(r, &t)) return 1;
     if (!is_open(&t, "UnstructuredGrid") || t.empty) return unexpected(r, &t, "VTKFile");

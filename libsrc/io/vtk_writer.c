@@ -87,11 +87,14 @@ static size_t vtk_type_size(vtk_type t)
 {
     switch (t) {
     case VTK_FLOAT64:
-    case VTK_INT64: return 8;
+    case VTK_INT64:
+        return 8;
     case VTK_FLOAT32:
     case VTK_INT32:
-    case VTK_UINT32: return 4;
-    case VTK_UINT8: return 1;
+    case VTK_UINT32:
+        return 4;
+    case VTK_UINT8:
+        return 1;
     }
     return 0;
 }
@@ -100,12 +103,18 @@ static size_t vtk_type_size(vtk_type t)
 static const char *vtk_type_name(vtk_type t)
 {
     switch (t) {
-    case VTK_FLOAT64: return "Float64";
-    case VTK_FLOAT32: return "Float32";
-    case VTK_INT32: return "Int32";
-    case VTK_UINT32: return "UInt32";
-    case VTK_INT64: return "Int64";
-    case VTK_UINT8: return "UInt8";
+    case VTK_FLOAT64:
+        return "Float64";
+    case VTK_FLOAT32:
+        return "Float32";
+    case VTK_INT32:
+        return "Int32";
+    case VTK_UINT32:
+        return "UInt32";
+    case VTK_INT64:
+        return "Int64";
+    case VTK_UINT8:
+        return "UInt8";
     }
     return NULL;
 }
@@ -146,15 +155,29 @@ void vtk_xml_escape(FILE *f, const char *s)
     for (; *s; s++) {
         unsigned char c = (unsigned char)*s;
         switch (c) {
-        case '&': fputs("&amp;", f); break;
-        case '<': fputs("&lt;", f); break;
-        case '>': fputs("&gt;", f); break;
-        case '"': fputs("&quot;", f); break;
-        case '\'': fputs("&apos;", f); break;
+        case '&':
+            fputs("&amp;", f);
+            break;
+        case '<':
+            fputs("&lt;", f);
+            break;
+        case '>':
+            fputs("&gt;", f);
+            break;
+        case '"':
+            fputs("&quot;", f);
+            break;
+        case '\'':
+            fputs("&apos;", f);
+            break;
         case '\t':
         case '\n':
-        case '\r': fprintf(f, "&#%u;", (unsigned)c); break;
-        default: fputc(c < 0x20 ? '?' : c, f); break;
+        case '\r':
+            fprintf(f, "&#%u;", (unsigned)c);
+            break;
+        default:
+            fputc(c < 0x20 ? '?' : c, f);
+            break;
         }
     }
 }
@@ -322,12 +345,29 @@ static void vtk_write_ascii_value(vtk_out *o, vtk_type t, const unsigned char *p
     uint32_t u32;
     int64_t i64;
     switch (t) {
-    case VTK_FLOAT64: memcpy(&d, p, 8); vtk_format_double(d, s, sizeof s); break;
-    case VTK_FLOAT32: memcpy(&f, p, 4); vtk_format_float(f, s, sizeof s); break;
-    case VTK_INT32: memcpy(&i32, p, 4); snprintf(s, sizeof s, "%" PRId32, i32); break;
-    case VTK_UINT32: memcpy(&u32, p, 4); snprintf(s, sizeof s, "%" PRIu32, u32); break;
-    case VTK_INT64: memcpy(&i64, p, 8); snprintf(s, sizeof s, "%" PRId64, i64); break;
-    case VTK_UINT8: snprintf(s, sizeof s, "%u", (unsigned)*p); break;
+    case VTK_FLOAT64:
+        memcpy(&d, p, 8);
+        vtk_format_double(d, s, sizeof s);
+        break;
+    case VTK_FLOAT32:
+        memcpy(&f, p, 4);
+        vtk_format_float(f, s, sizeof s);
+        break;
+    case VTK_INT32:
+        memcpy(&i32, p, 4);
+        snprintf(s, sizeof s, "%" PRId32, i32);
+        break;
+    case VTK_UINT32:
+        memcpy(&u32, p, 4);
+        snprintf(s, sizeof s, "%" PRIu32, u32);
+        break;
+    case VTK_INT64:
+        memcpy(&i64, p, 8);
+        snprintf(s, sizeof s, "%" PRId64, i64);
+        break;
+    case VTK_UINT8:
+        snprintf(s, sizeof s, "%u", (unsigned)*p);
+        break;
     }
     vtk_printf(o, "%s", s);
 }
@@ -339,10 +379,8 @@ static void vtk_write_ascii(vtk_out *o, const vtk_array *a, const char *indent)
     for (size_t i = 0; i < a->ntuples && !o->err; i++) {
         vtk_array_tuple(a, i, tuple);
         for (int k = 0; k < a->ncomp; k++, count++) {
-            if (count % VTK_ASCII_PER_LINE == 0)
-                vtk_printf(o, "\n%s  ", indent);
-            else
-                vtk_printf(o, " ");
+            if (count % VTK_ASCII_PER_LINE == 0) vtk_printf(o, "\n%s  ", indent);
+            else vtk_printf(o, " ");
             vtk_write_ascii_value(o, a->type, tuple + (size_t)k * es);
         }
     }
@@ -370,8 +408,7 @@ static void vtk_write_array_tag(vtk_out *o, vtk_array *a, const char *indent, in
     }
 }
 
-static void vtk_write_section(vtk_out *o, const char *tag, vtk_array *a, size_t n,
-                              int field_data)
+static void vtk_write_section(vtk_out *o, const char *tag, vtk_array *a, size_t n, int field_data)
 {
     const char *indent = field_data ? "      " : "        ";
     vtk_printf(o, "%s<%s>\n", field_data ? "    " : "      ", tag);
@@ -383,14 +420,16 @@ static void vtk_write_xml(vtk_out *o, vtk_piece *p)
 {
     vtk_array *pd = p->arr + p->nfield_data, *pts = pd + p->npoint_data;
     const char *type = p->poly ? "PolyData" : "UnstructuredGrid";
-    vtk_printf(o, "<?xml version=\"1.0\"?>\n<VTKFile type=\"%s\" version=\"1.0\" "
-                  "byte_order=\"%s\" header_type=\"UInt64\"%s>\n",
+    vtk_printf(o,
+               "<?xml version=\"1.0\"?>\n<VTKFile type=\"%s\" version=\"1.0\" "
+               "byte_order=\"%s\" header_type=\"UInt64\"%s>\n",
                type, VTK_BYTE_ORDER, o->compress ? " compressor=\"vtkZLibDataCompressor\"" : "");
     vtk_printf(o, "  <%s>\n", type);
     if (p->nfield_data) vtk_write_section(o, "FieldData", p->arr, p->nfield_data, 1);
     if (p->poly)
-        vtk_printf(o, "    <Piece NumberOfPoints=\"%zu\" NumberOfVerts=\"0\" NumberOfLines=\"0\" "
-                      "NumberOfStrips=\"0\" NumberOfPolys=\"%zu\">\n",
+        vtk_printf(o,
+                   "    <Piece NumberOfPoints=\"%zu\" NumberOfVerts=\"0\" NumberOfLines=\"0\" "
+                   "NumberOfStrips=\"0\" NumberOfPolys=\"%zu\">\n",
                    p->npoints, p->ncells);
     else
         vtk_printf(o, "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n", p->npoints,
@@ -407,10 +446,8 @@ static void vtk_write_appended(vtk_out *o, vtk_piece *p)
     vtk_printf(o, "  <AppendedData encoding=\"raw\">\n   _");
     for (size_t i = 0; i < p->narr && !o->err; i++) {
         p->arr[i].offset = o->appended;
-        if (o->compress)
-            vtk_append_zlib(o, &p->arr[i]);
-        else
-            vtk_append_raw(o, &p->arr[i]);
+        if (o->compress) vtk_append_zlib(o, &p->arr[i]);
+        else vtk_append_raw(o, &p->arr[i]);
     }
     vtk_printf(o, "\n  </AppendedData>\n</VTKFile>\n");
     for (size_t i = 0; i < p->narr; i++) {
@@ -422,8 +459,7 @@ static void vtk_write_appended(vtk_out *o, vtk_piece *p)
 /* ---- entry point ---------------------------------------------------- */
 
 static int vtk_check_input(const char *path, size_t n, const double *x, const double *y,
-                           const double *z, const vtk_field *fields, size_t nfields,
-                           sl_err *err)
+                           const double *z, const vtk_field *fields, size_t nfields, sl_err *err)
 {
     if (n > 0 && (!x || !y || !z)) {
         sl_err_set(err, "cannot write '%s': point positions missing", path);
@@ -436,12 +472,9 @@ static int vtk_check_input(const char *path, size_t n, const double *x, const do
     for (size_t i = 0; i < nfields; i++) {
         const vtk_field *f = &fields[i];
         const char *why = NULL;
-        if (!f->name || !*f->name)
-            why = "has no name";
-        else if (!vtk_type_name(f->type))
-            why = "has an unknown type";
-        else if (f->ncomp < 1 || f->ncomp > 3)
-            why = "must have 1 to 3 components";
+        if (!f->name || !*f->name) why = "has no name";
+        else if (!vtk_type_name(f->type)) why = "has an unknown type";
+        else if (f->ncomp < 1 || f->ncomp > 3) why = "must have 1 to 3 components";
         for (int k = 0; !why && n > 0 && k < f->ncomp; k++)
             if (!f->comp[k]) why = "has a missing component array";
         if (why) {
@@ -508,10 +541,8 @@ static int vtk_write_piece(const char *path, vtk_piece *pp, const vtk_options *o
     }
     vtk_out_init(&o, af.f, opt);
     vtk_write_xml(&o, &p);
-    if (o.ascii)
-        vtk_printf(&o, "</VTKFile>\n");
-    else
-        vtk_write_appended(&o, &p);
+    if (o.ascii) vtk_printf(&o, "</VTKFile>\n");
+    else vtk_write_appended(&o, &p);
     free(p.arr);
     free(o.buf);
     free(o.zbuf);
@@ -523,9 +554,8 @@ static int vtk_write_piece(const char *path, vtk_piece *pp, const vtk_options *o
     return afile_commit(&af, err);
 }
 
-int vtk_write_points(const char *path, size_t n, const double *x, const double *y,
-                     const double *z, const vtk_field *fields, size_t nfields,
-                     const vtk_options *opt, sl_err *err)
+int vtk_write_points(const char *path, size_t n, const double *x, const double *y, const double *z,
+                     const vtk_field *fields, size_t nfields, const vtk_options *opt, sl_err *err)
 {
     vtk_options def;
     vtk_piece p;
@@ -539,9 +569,8 @@ int vtk_write_points(const char *path, size_t n, const double *x, const double *
 }
 
 int vtk_write_triangles(const char *path, size_t n, const double *x, const double *y,
-                        const double *z, size_t ntri, const int64_t *tri,
-                        const vtk_field *fields, size_t nfields, const vtk_options *opt,
-                        sl_err *err)
+                        const double *z, size_t ntri, const int64_t *tri, const vtk_field *fields,
+                        size_t nfields, const vtk_options *opt, sl_err *err)
 {
     vtk_options def;
     vtk_piece p;

@@ -50,18 +50,16 @@ void vtk_options_default(vtk_options *o);
  * as Float64 "Points") with point-data fields; opt NULL means the defaults.
  * Returns 0, or nonzero with err filled ("cannot write '<path>': <reason>")
  * and no file left behind (an existing <path> is left untouched). */
-int vtk_write_points(const char *path, size_t n, const double *x, const double *y,
-                     const double *z, const vtk_field *fields, size_t nfields,
-                     const vtk_options *opt, sl_err *err);
+int vtk_write_points(const char *path, size_t n, const double *x, const double *y, const double *z,
+                     const vtk_field *fields, size_t nfields, const vtk_options *opt, sl_err *err);
 
 /* Write a PolyData of n points and ntri triangles (tri[3 t + k]: 0-based
  * point indices, written as Int64 "connectivity" with "offsets" 3, 6, ...)
  * with point-data fields, in the same encoding as vtk_write_points
  * (opt->vertices is ignored).  An index outside [0, n) is an error. */
 int vtk_write_triangles(const char *path, size_t n, const double *x, const double *y,
-                        const double *z, size_t ntri, const int64_t *tri,
-                        const vtk_field *fields, size_t nfields, const vtk_options *opt,
-                        sl_err *err);
+                        const double *z, size_t ntri, const int64_t *tri, const vtk_field *fields,
+                        size_t nfields, const vtk_options *opt, sl_err *err);
 
 /* The shortest decimal text ("%.15g" to "%.17g") that reads back as exactly
  * v, e.g. 0.1 -> "0.1", 1e-05 -> "1e-05".  Returns snprintf's result. */

@@ -17,10 +17,10 @@
 #include <math.h>
 
 typedef struct krn_kernel {
-    double h;        /* support radius */
+    double h; /* support radius */
     double inv_h;
-    double sigma;    /* 8 / (pi h^3) */
-    double gsigma;   /* sigma / h^2, for the gradient */
+    double sigma;  /* 8 / (pi h^3) */
+    double gsigma; /* sigma / h^2, for the gradient */
 } krn_kernel;
 
 void krn_init(krn_kernel *k, double h);

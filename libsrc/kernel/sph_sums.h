@@ -45,8 +45,7 @@ static inline __m512d sph__rsqrt(__m512d r2)
 /* Squared distances of (px, py, pz) to the gathered lanes; d[] gets the
  * differences p - x_j. */
 static inline __m512d sph__dist2(__m256i j, __mmask8 m, __m512d px, __m512d py, __m512d pz,
-                                 const double *x, const double *y, const double *z,
-                                 __m512d d[3])
+                                 const double *x, const double *y, const double *z, __m512d d[3])
 {
     d[0] = _mm512_sub_pd(px, _mm512_mask_i32gather_pd(px, m, j, x, 8));
     d[1] = _mm512_sub_pd(py, _mm512_mask_i32gather_pd(py, m, j, y, 8));
@@ -78,8 +77,8 @@ static inline __m512d sph__gradf(const krn_kernel *k, __m512d r2)
     const __m512d rinv = sph__rsqrt(r2s);
     const __m512d q = _mm512_mul_pd(_mm512_mul_pd(r2s, rinv), _mm512_set1_pd(k->inv_h));
     const __m512d gs = _mm512_set1_pd(k->gsigma);
-    const __m512d a = _mm512_mul_pd(gs, _mm512_fmsub_pd(_mm512_set1_pd(18.0), q,
-                                                        _mm512_set1_pd(12.0)));
+    const __m512d a =
+        _mm512_mul_pd(gs, _mm512_fmsub_pd(_mm512_set1_pd(18.0), q, _mm512_set1_pd(12.0)));
     const __m512d om = _mm512_sub_pd(one, q);
     /* -6 gsigma (1 - q)^2 / q, 1 / q = h / r */
     const __m512d b = _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(-6.0 * k->gsigma * k->h), rinv),
@@ -198,7 +197,8 @@ static inline void sph_sum_pressure(const krn_kernel k, const uint32_t *restrict
         for (uint32_t q = q0; q < q1; q++) {
             const uint32_t j = idx[q];
             const double dx = px - x[j], dy = py - y[j], dz = pz - z[j];
-            const double c = mj[j] * (pi + pt[j]) * krn_gradf(&k, sqrt(dx * dx + dy * dy + dz * dz));
+            const double c =
+                mj[j] * (pi + pt[j]) * krn_gradf(&k, sqrt(dx * dx + dy * dy + dz * dz));
             ax -= c * dx;
             ay -= c * dy;
             az -= c * dz;
@@ -226,13 +226,13 @@ static inline void sph_sum_pressure(const krn_kernel k, const uint32_t *restrict
  * (r_ij^2 + eps_h2) for approaching pairs (v_ij . x_ij < 0), else 0: the
  * artificial viscosity's sum (effects/viscosity.h), v_ij = v - v_j.
  * mj == NULL means every m_j = 1. */
-static inline void sph_sum_viscosity(const krn_kernel k, const uint32_t *restrict idx,
-                                     uint32_t q0, uint32_t q1, const double p[3],
-                                     const double v[3], const double *restrict x,
-                                     const double *restrict y, const double *restrict z,
-                                     const double *restrict vx, const double *restrict vy,
-                                     const double *restrict vz, const double *restrict mj,
-                                     double eps_h2, double scale, double a[3])
+static inline void sph_sum_viscosity(const krn_kernel k, const uint32_t *restrict idx, uint32_t q0,
+                                     uint32_t q1, const double p[3], const double v[3],
+                                     const double *restrict x, const double *restrict y,
+                                     const double *restrict z, const double *restrict vx,
+                                     const double *restrict vy, const double *restrict vz,
+                                     const double *restrict mj, double eps_h2, double scale,
+                                     double a[3])
 {
 #if SPH_SUMS_AVX512
     const __m512d px = _mm512_set1_pd(p[0]), py = _mm512_set1_pd(p[1]), pz = _mm512_set1_pd(p[2]);
@@ -246,8 +246,8 @@ static inline void sph_sum_viscosity(const krn_kernel k, const uint32_t *restric
         const __m512d wx = _mm512_sub_pd(ux, _mm512_mask_i32gather_pd(ux, l, j, vx, 8));
         const __m512d wy = _mm512_sub_pd(uy, _mm512_mask_i32gather_pd(uy, l, j, vy, 8));
         const __m512d wz = _mm512_sub_pd(uz, _mm512_mask_i32gather_pd(uz, l, j, vz, 8));
-        const __m512d vr = _mm512_fmadd_pd(wz, d[2], _mm512_fmadd_pd(wy, d[1],
-                                                                     _mm512_mul_pd(wx, d[0])));
+        const __m512d vr =
+            _mm512_fmadd_pd(wz, d[2], _mm512_fmadd_pd(wy, d[1], _mm512_mul_pd(wx, d[0])));
         const __mmask8 on = _mm512_mask_cmp_pd_mask(l, vr, zero, _CMP_LT_OQ);
         __m512d c = _mm512_mul_pd(_mm512_div_pd(vr, _mm512_add_pd(r2, eps)), sph__gradf(&k, r2));
         if (mj) c = _mm512_mul_pd(c, _mm512_mask_i32gather_pd(zero, l, j, mj, 8));

@@ -57,7 +57,8 @@ static void read_table(mot_motion *m, const dict *d, const char *case_dir)
         if (m->nrows == cap) {
             cap = cap ? 2 * cap : 64;
             m->t = sl_realloc(m->t, cap * sizeof *m->t, "motion table");
-            for (int k = 0; k < 4; k++) m->col[k] = sl_realloc(m->col[k], cap * sizeof(double), "motion table");
+            for (int k = 0; k < 4; k++)
+                m->col[k] = sl_realloc(m->col[k], cap * sizeof(double), "motion table");
         }
         m->t[m->nrows] = v[0];
         for (int k = 0; k < 4; k++) m->col[k][m->nrows] = k == 3 ? v[4] * M_PI / 180.0 : v[k + 1];
@@ -76,8 +77,8 @@ static void read_table(mot_motion *m, const dict *d, const char *case_dir)
 
 void mot_read(mot_motion *m, const dict *d, const char *case_dir)
 {
-    static const char *const keys[] = {"type", "peakVelocity", "period", "amplitude", "axis",
-                                       "centre", "file", NULL};
+    static const char *const keys[] = {"type", "peakVelocity", "period", "amplitude",
+                                       "axis", "centre",       "file",   NULL};
     sl_err err;
     const char *type;
     memset(m, 0, sizeof *m);
@@ -115,8 +116,7 @@ void mot_free(mot_motion *m)
     memset(m, 0, sizeof *m);
 }
 
-void mot_eval(const mot_motion *m, double t, double d[3], double *angle, double v[3],
-              double *omega)
+void mot_eval(const mot_motion *m, double t, double d[3], double *angle, double v[3], double *omega)
 {
     d[0] = d[1] = d[2] = v[0] = v[1] = v[2] = 0.0;
     *angle = *omega = 0.0;
@@ -145,7 +145,10 @@ void mot_eval(const mot_motion *m, double t, double d[3], double *angle, double 
             val[k] = gsl_spline_eval(m->spline[k], tc, m->acc[k]);
             rate[k] = inside ? gsl_spline_eval_deriv(m->spline[k], tc, m->acc[k]) : 0.0;
         }
-        for (int k = 0; k < 3; k++) { d[k] = val[k]; v[k] = rate[k]; }
+        for (int k = 0; k < 3; k++) {
+            d[k] = val[k];
+            v[k] = rate[k];
+        }
         *angle = val[3];
         *omega = rate[3];
         return;
@@ -172,7 +175,8 @@ void mot_apply(const mot_motion *m, uint32_t body, double t, sl_boundary *b)
 #pragma omp parallel for schedule(static)
     for (size_t i = 0; i < b->n; i++) {
         if (b->body[i] != body) continue;
-        double r0[3] = {b->x0[i] - c[0], b->y0[i] - c[1], b->z0[i] - c[2]}, r[3], n0[3] = {b->nx0[i], b->ny0[i], b->nz0[i]}, n[3];
+        double r0[3] = {b->x0[i] - c[0], b->y0[i] - c[1], b->z0[i] - c[2]}, r[3],
+               n0[3] = {b->nx0[i], b->ny0[i], b->nz0[i]}, n[3];
         rotate(k, a, r0, r);
         rotate(k, a, n0, n);
         b->x[i] = c[0] + r[0] + d[0];

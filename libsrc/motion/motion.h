@@ -33,11 +33,11 @@ typedef enum { MOT_NONE, MOT_COSINE, MOT_OSCILLATING, MOT_TABLE } mot_type;
 
 typedef struct mot_motion {
     mot_type type;
-    double peak_velocity[3], period, amplitude;   /* cosine, oscillating */
-    double axis[3], centre[3];                    /* rotations (unit axis) */
+    double peak_velocity[3], period, amplitude; /* cosine, oscillating */
+    double axis[3], centre[3];                  /* rotations (unit axis) */
     /* table */
     size_t nrows;
-    double *t, *col[4];                           /* dx dy dz angle */
+    double *t, *col[4]; /* dx dy dz angle */
     gsl_spline *spline[4];
     gsl_interp_accel *acc[4];
 } mot_motion;

@@ -25,8 +25,7 @@ static int cmp_cell_key(const void *a, const void *b)
     return (x->morton > y->morton) - (x->morton < y->morton);
 }
 
-void nbr_grid_init(nbr_grid *g, const double lo[3], const double hi[3], double h,
-                   size_t max_cells)
+void nbr_grid_init(nbr_grid *g, const double lo[3], const double hi[3], double h, size_t max_cells)
 {
     memset(g, 0, sizeof *g);
     double cell = h / NBR_CELLS_PER_H;
@@ -38,12 +37,16 @@ void nbr_grid_init(nbr_grid *g, const double lo[3], const double hi[3], double h
             if (g->nc[d] < 1) g->nc[d] = 1;
             total *= (size_t)g->nc[d];
         }
-        if (total <= max_cells || total < 64) { g->ncells = total; break; }
+        if (total <= max_cells || total < 64) {
+            g->ncells = total;
+            break;
+        }
         cell *= 1.25;
     }
     if (cell > h / NBR_CELLS_PER_H * 1.0000001)
         sl_warning("neighbour grid: scene too large for %zu cells of size h; "
-                   "using cells of %g (h = %g): search is slower", max_cells, cell, h);
+                   "using cells of %g (h = %g): search is slower",
+                   max_cells, cell, h);
     for (int d = 0; d < 3; d++) g->lo[d] = lo[d];
     g->cell = cell;
     g->inv_cell = 1.0 / cell;
@@ -58,7 +61,8 @@ void nbr_grid_init(nbr_grid *g, const double lo[3], const double hi[3], double h
         for (int cy = 0; cy < g->nc[1]; cy++) {
             size_t row = (size_t)cy + (size_t)g->nc[1] * (size_t)cz;
             keys[row].linear = (uint32_t)row;
-            keys[row].morton = sl_morton_spread3((uint64_t)cy) | sl_morton_spread3((uint64_t)cz) << 1;
+            keys[row].morton =
+                sl_morton_spread3((uint64_t)cy) | sl_morton_spread3((uint64_t)cz) << 1;
         }
     qsort(keys, nrows, sizeof *keys, cmp_cell_key);
     g->rank = sl_alloc_aligned(g->ncells * sizeof *g->rank, "grid ranks");
@@ -127,8 +131,8 @@ static void count_by_cell(nbr_grid *g, size_t n, const uint32_t *cellv, uint32_t
 
 /* Counting sort of n particles by cell rank: fills start (ncells + 1) and
  * perm (new index -> old index).  Stable, hence deterministic. */
-static void sort_by_cell(nbr_grid *g, size_t n, const double *x, const double *y,
-                         const double *z, uint32_t *cellv, uint32_t *start, uint32_t *perm)
+static void sort_by_cell(nbr_grid *g, size_t n, const double *x, const double *y, const double *z,
+                         uint32_t *cellv, uint32_t *start, uint32_t *perm)
 {
 #pragma omp parallel for schedule(static)
     for (size_t i = 0; i < n; i++) {
@@ -153,7 +157,10 @@ static void order_cells_by_id(const nbr_grid *g, const uint32_t *start, uint32_t
         uint32_t len = start[k + 1] - start[k];
         for (uint32_t a = 1; a < len; a++) {
             uint32_t v = seg[a], c = a;
-            while (c > 0 && id[seg[c - 1]] > id[v]) { seg[c] = seg[c - 1]; c--; }
+            while (c > 0 && id[seg[c - 1]] > id[v]) {
+                seg[c] = seg[c - 1];
+                c--;
+            }
             seg[c] = v;
         }
     }
@@ -209,7 +216,10 @@ void nbr_sort_fluid(nbr_grid *g, sl_fluid *f)
             const uint32_t len = start[k + 1] - start[k];
             for (uint32_t a = 1; a < len; a++) {
                 uint32_t v = seg[a], q = a;
-                while (q > 0 && f->id[seg[q - 1]] > f->id[v]) { seg[q] = seg[q - 1]; q--; }
+                while (q > 0 && f->id[seg[q - 1]] > f->id[v]) {
+                    seg[q] = seg[q - 1];
+                    q--;
+                }
                 seg[q] = v;
             }
             for (uint32_t a = 0; a < len; a++) cellv[start[k] + a] = (uint32_t)k;
@@ -317,7 +327,7 @@ static inline size_t filter_range(uint32_t *restrict buf, size_t len, uint32_t j
         __m512d d2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
         __m256i idx = _mm256_add_epi32(_mm256_set1_epi32((int)j), step);
         __mmask8 keep = _mm512_mask_cmp_pd_mask(m, d2, vh2, _CMP_LT_OQ) &
-                        (__mmask8)~_mm256_cmpeq_epi32_mask(idx, vself);
+            (__mmask8)~_mm256_cmpeq_epi32_mask(idx, vself);
         __m256i kept = _mm256_maskz_compress_epi32(keep, idx);
         __asm__("" : "+v"(kept)); /* keeps gcc from fusing a (slow) compress to memory */
         _mm256_storeu_si256((__m256i *)(buf + len), kept);
@@ -338,7 +348,7 @@ static inline size_t filter_range(uint32_t *restrict buf, size_t len, uint32_t j
 _Static_assert(NBR_CELLS_PER_H <= 2, "NBR_MAX_ROWS assumes reach <= 2");
 
 typedef struct cell_rows {
-    uint32_t rank;            /* the cell (UINT32_MAX: none yet) */
+    uint32_t rank; /* the cell (UINT32_MAX: none yet) */
     int n;
     uint32_t ka[NBR_MAX_ROWS], ke[NBR_MAX_ROWS]; /* rank ranges [ka, ke) */
 } cell_rows;
@@ -385,8 +395,8 @@ typedef struct nbr_targets {
  * cell's candidate count plus slack), then moved down to be contiguous;
  * l->start[i] gets row i's count. */
 static void gather_batch(const nbr_grid *g, const cell_rows *r, nbr_list *l, size_t c,
-                         const nbr_targets *t, const double *px, const double *py,
-                         const double *pz, size_t i0, size_t i1)
+                         const nbr_targets *t, const double *px, const double *py, const double *pz,
+                         size_t i0, size_t i1)
 {
     size_t cand = 0;
     for (int k = 0; k < r->n; k++) {
@@ -491,8 +501,7 @@ static void build_chunk(const nbr_grid *g, size_t n, const double *px, const dou
  * thread count.  One parallel region for the rows, the offsets and the
  * copies. */
 static void build_lists(const nbr_grid *g, size_t n, const double *px, const double *py,
-                        const double *pz, nbr_list *l, nbr_targets tl, nbr_list *lb,
-                        nbr_targets tb)
+                        const double *pz, nbr_list *l, nbr_targets tl, nbr_list *lb, nbr_targets tb)
 {
     const size_t nch = chunks_of(n);
     list_prepare(l, n);
@@ -526,8 +535,7 @@ static nbr_targets boundary_targets(const nbr_grid *g, const sl_boundary *b, int
 
 void nbr_build_ff(const nbr_grid *g, const sl_fluid *f, nbr_list *l)
 {
-    build_lists(g, f->n, f->x, f->y, f->z, l, fluid_targets(g, f, 1), NULL,
-                (nbr_targets){0});
+    build_lists(g, f->n, f->x, f->y, f->z, l, fluid_targets(g, f, 1), NULL, (nbr_targets){0});
 }
 
 void nbr_build_fluid(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *ff,
@@ -542,8 +550,7 @@ void nbr_build_fluid(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b,
 
 void nbr_build_fb(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *l)
 {
-    build_lists(g, f->n, f->x, f->y, f->z, l, boundary_targets(g, b, 0), NULL,
-                (nbr_targets){0});
+    build_lists(g, f->n, f->x, f->y, f->z, l, boundary_targets(g, b, 0), NULL, (nbr_targets){0});
 }
 
 void nbr_build_bf(const nbr_grid *g, const sl_fluid *f, const sl_boundary *b, nbr_list *l,
@@ -576,13 +583,13 @@ void nbr_transpose(const nbr_list *fb, size_t nb, nbr_list *bf, uint32_t *active
     *nactive = na;
     /* fill: rows in ascending fluid index; st[b] walks to the row's end */
     for (size_t i = 0; i < fb->n; i++)
-        for (uint32_t q = fb->start[i]; q < fb->start[i + 1]; q++) bf->idx[st[fb->idx[q]]++] = (uint32_t)i;
+        for (uint32_t q = fb->start[i]; q < fb->start[i + 1]; q++)
+            bf->idx[st[fb->idx[q]]++] = (uint32_t)i;
     for (size_t b = nb; b > 0; b--) st[b] = st[b - 1];
     st[0] = 0;
 }
 
 void nbr_build_bb(const nbr_grid *g, const sl_boundary *b, nbr_list *l)
 {
-    build_lists(g, b->n, b->x, b->y, b->z, l, boundary_targets(g, b, 0), NULL,
-                (nbr_targets){0});
+    build_lists(g, b->n, b->x, b->y, b->z, l, boundary_targets(g, b, 0), NULL, (nbr_targets){0});
 }

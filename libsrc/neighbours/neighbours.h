@@ -34,20 +34,20 @@
 
 typedef struct nbr_grid {
     double lo[3];
-    double cell, inv_cell;    /* cell size (h / NBR_CELLS_PER_H, larger for huge scenes) */
-    int reach;                /* cells searched each way: ceil(h / cell) */
-    double h2;                /* squared search radius */
+    double cell, inv_cell; /* cell size (h / NBR_CELLS_PER_H, larger for huge scenes) */
+    int reach;             /* cells searched each way: ceil(h / cell) */
+    double h2;             /* squared search radius */
     int nc[3];
     size_t ncells;
-    uint32_t *rank;           /* rank[linear cell] = position in Z-order */
-    uint32_t *fstart;         /* fluid particles of rank k: [fstart[k], fstart[k+1]) */
-    uint32_t *bstart;         /* boundary particles, likewise */
-    const uint32_t *hstart;   /* fluid halo copies at [n, n + nhalo), likewise (absolute
+    uint32_t *rank;         /* rank[linear cell] = position in Z-order */
+    uint32_t *fstart;       /* fluid particles of rank k: [fstart[k], fstart[k+1]) */
+    uint32_t *bstart;       /* boundary particles, likewise */
+    const uint32_t *hstart; /* fluid halo copies at [n, n + nhalo), likewise (absolute
                                  indices; NULL: none; set by domain/) */
-    uint32_t *count;          /* scratch, ncells + 1 */
-    uint32_t *perm;           /* scratch permutation, fluid capacity */
+    uint32_t *count;        /* scratch, ncells + 1 */
+    uint32_t *perm;         /* scratch permutation, fluid capacity */
     size_t perm_cap;
-    uint32_t *bcell, *bperm;  /* scratch for re-sorting moving boundaries */
+    uint32_t *bcell, *bperm; /* scratch for re-sorting moving boundaries */
     size_t bperm_cap;
 } nbr_grid;
 
@@ -58,20 +58,19 @@ typedef struct nbr_grid {
 
 /* One compressed-row neighbour list with per-chunk fill buffers. */
 typedef struct nbr_list {
-    size_t n;                 /* rows */
+    size_t n; /* rows */
     size_t rows_cap;
-    uint32_t *start;          /* n + 1 */
-    uint32_t *idx;            /* start[n] entries */
+    uint32_t *start; /* n + 1 */
+    uint32_t *idx;   /* start[n] entries */
     size_t idx_cap;
-    size_t nbuf;              /* chunk buffers */
+    size_t nbuf; /* chunk buffers */
     uint32_t **buf;
-    size_t *bcap, *blen;      /* capacity; entries (then the chunk's offset) */
+    size_t *bcap, *blen; /* capacity; entries (then the chunk's offset) */
 } nbr_list;
 
 /* Set up a grid over [lo, hi] with search radius h; the cell size is h
  * unless that would need more than max_cells cells, in which case it grows. */
-void nbr_grid_init(nbr_grid *g, const double lo[3], const double hi[3], double h,
-                   size_t max_cells);
+void nbr_grid_init(nbr_grid *g, const double lo[3], const double hi[3], double h, size_t max_cells);
 void nbr_grid_free(nbr_grid *g);
 
 /* Sort the boundary particles by cell (once, at set-up) and fill bstart. */

@@ -4,14 +4,14 @@
 
 #include <string.h>
 
-#define FLUID_DOUBLES 18
+#define FLUID_DOUBLES    18
 #define BOUNDARY_DOUBLES 20
 
 static void fluid_doubles(sl_fluid *f, double **a[FLUID_DOUBLES])
 {
-    double **list[FLUID_DOUBLES] = {
-        &f->x, &f->y, &f->z, &f->vx, &f->vy, &f->vz, &f->xs, &f->ys, &f->zs,
-        &f->ax, &f->ay, &f->az, &f->apx, &f->apy, &f->apz, &f->rho, &f->p, &f->pt};
+    double **list[FLUID_DOUBLES] = {&f->x,   &f->y,   &f->z,   &f->vx,  &f->vy, &f->vz,
+                                    &f->xs,  &f->ys,  &f->zs,  &f->ax,  &f->ay, &f->az,
+                                    &f->apx, &f->apy, &f->apz, &f->rho, &f->p,  &f->pt};
     memcpy(a, list, sizeof list);
 }
 
@@ -58,14 +58,19 @@ void prt_fluid_free(sl_fluid *f)
     memset(f, 0, sizeof *f);
 }
 
-void prt_fluid_push(sl_fluid *f, double x, double y, double z,
-                    double vx, double vy, double vz)
+void prt_fluid_push(sl_fluid *f, double x, double y, double z, double vx, double vy, double vz)
 {
     if (f->n == f->cap) prt_fluid_reserve(f, f->cap ? 2 * f->cap : 1024);
     size_t i = f->n++;
-    f->x[i] = x; f->y[i] = y; f->z[i] = z;
-    f->vx[i] = vx; f->vy[i] = vy; f->vz[i] = vz;
-    f->xs[i] = x; f->ys[i] = y; f->zs[i] = z;
+    f->x[i] = x;
+    f->y[i] = y;
+    f->z[i] = z;
+    f->vx[i] = vx;
+    f->vy[i] = vy;
+    f->vz[i] = vz;
+    f->xs[i] = x;
+    f->ys[i] = y;
+    f->zs[i] = z;
     f->ax[i] = f->ay[i] = f->az[i] = 0.0;
     f->apx[i] = f->apy[i] = f->apz[i] = 0.0;
     f->rho[i] = 0.0;
@@ -75,16 +80,16 @@ void prt_fluid_push(sl_fluid *f, double x, double y, double z,
     f->cell[i] = 0;
 }
 
-static void permute_double(double *restrict a, double *restrict tmp,
-                           const uint32_t *restrict perm, size_t n)
+static void permute_double(double *restrict a, double *restrict tmp, const uint32_t *restrict perm,
+                           size_t n)
 {
 #pragma omp parallel for schedule(static)
     for (size_t i = 0; i < n; i++) tmp[i] = a[perm[i]];
     if (n) memcpy(a, tmp, n * sizeof *a);
 }
 
-static void permute_u32(uint32_t *restrict a, uint32_t *restrict tmp,
-                        const uint32_t *restrict perm, size_t n)
+static void permute_u32(uint32_t *restrict a, uint32_t *restrict tmp, const uint32_t *restrict perm,
+                        size_t n)
 {
 #pragma omp parallel for schedule(static)
     for (size_t i = 0; i < n; i++) tmp[i] = a[perm[i]];
@@ -104,7 +109,8 @@ int prt_fluid_state_pairs(sl_fluid *f, double **state[PRT_STATE_PAIRS],
                           double **spare[PRT_STATE_PAIRS])
 {
     double **st[PRT_STATE_PAIRS] = {&f->x, &f->y, &f->z, &f->vx, &f->vy, &f->vz, &f->rho, &f->p};
-    double **sp[PRT_STATE_PAIRS] = {&f->xs, &f->ys, &f->zs, &f->ax, &f->ay, &f->az, &f->apx, &f->apy};
+    double **sp[PRT_STATE_PAIRS] = {&f->xs, &f->ys, &f->zs,  &f->ax,
+                                    &f->ay, &f->az, &f->apx, &f->apy};
     memcpy(state, st, sizeof st);
     memcpy(spare, sp, sizeof sp);
     return PRT_STATE_PAIRS;
@@ -114,10 +120,9 @@ int prt_fluid_state_pairs(sl_fluid *f, double **state[PRT_STATE_PAIRS],
 
 static void boundary_doubles(sl_boundary *b, double **a[BOUNDARY_DOUBLES])
 {
-    double **list[BOUNDARY_DOUBLES] = {&b->x, &b->y, &b->z, &b->nx, &b->ny, &b->nz,
-                                       &b->mass, &b->rho_static, &b->rho, &b->p, &b->pt,
-                                       &b->vx, &b->vy, &b->vz, &b->x0, &b->y0, &b->z0,
-                                       &b->nx0, &b->ny0, &b->nz0};
+    double **list[BOUNDARY_DOUBLES] = {
+        &b->x,  &b->y,  &b->z,  &b->nx, &b->ny, &b->nz, &b->mass, &b->rho_static, &b->rho, &b->p,
+        &b->pt, &b->vx, &b->vy, &b->vz, &b->x0, &b->y0, &b->z0,   &b->nx0,        &b->ny0, &b->nz0};
     memcpy(a, list, sizeof list);
 }
 
@@ -146,21 +151,29 @@ void prt_boundary_free(sl_boundary *b)
     memset(b, 0, sizeof *b);
 }
 
-void prt_boundary_push(sl_boundary *b, double x, double y, double z,
-                       double nx, double ny, double nz, uint32_t body)
+void prt_boundary_push(sl_boundary *b, double x, double y, double z, double nx, double ny,
+                       double nz, uint32_t body)
 {
     if (b->n == b->cap) prt_boundary_reserve(b, b->cap ? 2 * b->cap : 1024);
     size_t i = b->n++;
-    b->x[i] = x; b->y[i] = y; b->z[i] = z;
-    b->nx[i] = nx; b->ny[i] = ny; b->nz[i] = nz;
+    b->x[i] = x;
+    b->y[i] = y;
+    b->z[i] = z;
+    b->nx[i] = nx;
+    b->ny[i] = ny;
+    b->nz[i] = nz;
     b->mass[i] = 0.0;
     b->rho_static[i] = 0.0;
     b->rho[i] = 0.0;
     b->p[i] = 0.0;
     b->pt[i] = 0.0;
     b->vx[i] = b->vy[i] = b->vz[i] = 0.0;
-    b->x0[i] = x; b->y0[i] = y; b->z0[i] = z;
-    b->nx0[i] = nx; b->ny0[i] = ny; b->nz0[i] = nz;
+    b->x0[i] = x;
+    b->y0[i] = y;
+    b->z0[i] = z;
+    b->nx0[i] = nx;
+    b->ny0[i] = ny;
+    b->nz0[i] = nz;
     b->body[i] = body;
     b->id[i] = (uint32_t)i;
 }

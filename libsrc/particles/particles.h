@@ -19,39 +19,39 @@
 
 typedef struct sl_fluid {
     size_t n, cap;
-    size_t nhalo;             /* halo copies (periodic images, other ranks' particles) at
+    size_t nhalo;            /* halo copies (periodic images, other ranks' particles) at
                                  [n, n + nhalo): the neighbour search sees them, loops over
                                  n do not (domain/dom_periodic.h) */
-    double *x, *y, *z;        /* position at t */
-    double *vx, *vy, *vz;     /* velocity at t */
-    double *xs, *ys, *zs;     /* predicted position x*(t + dt) */
-    double *ax, *ay, *az;     /* non-pressure acceleration (gravity, viscosity, ...) */
-    double *apx, *apy, *apz;  /* pressure acceleration F^p / m */
-    double *rho;              /* (predicted) density */
-    double *p;                /* pressure */
-    double *pt;               /* p / rho^2, for the pressure force */
-    uint32_t *id;             /* stable particle id */
-    uint32_t *cell;           /* grid cell (scratch for sorting) */
-    double *scratch;          /* permutation scratch, cap doubles */
-    uint32_t *scratch_u;      /* permutation scratch, cap uint32 */
+    double *x, *y, *z;       /* position at t */
+    double *vx, *vy, *vz;    /* velocity at t */
+    double *xs, *ys, *zs;    /* predicted position x*(t + dt) */
+    double *ax, *ay, *az;    /* non-pressure acceleration (gravity, viscosity, ...) */
+    double *apx, *apy, *apz; /* pressure acceleration F^p / m */
+    double *rho;             /* (predicted) density */
+    double *p;               /* pressure */
+    double *pt;              /* p / rho^2, for the pressure force */
+    uint32_t *id;            /* stable particle id */
+    uint32_t *cell;          /* grid cell (scratch for sorting) */
+    double *scratch;         /* permutation scratch, cap doubles */
+    uint32_t *scratch_u;     /* permutation scratch, cap uint32 */
 } sl_fluid;
 
 typedef struct sl_boundary {
     size_t n, cap;
-    size_t nimages;           /* periodic images among the n: those with id >= n - nimages */
+    size_t nimages; /* periodic images among the n: those with id >= n - nimages */
     double *x, *y, *z;
-    double *nx, *ny, *nz;     /* unit normal into the fluid */
-    double *mass;             /* m_b */
-    double *rho_static;       /* sum over boundary neighbours of m_k W_bk */
-    double *rho;              /* predicted density (eq. 13) */
-    double *p;                /* pressure */
-    double *pt;               /* p / rho^2 */
-    double *vx, *vy, *vz;     /* wall velocity (moving bodies; 0 for static walls) */
-    double *x0, *y0, *z0;     /* position and normal at rest (body frame = world at t = 0) */
+    double *nx, *ny, *nz; /* unit normal into the fluid */
+    double *mass;         /* m_b */
+    double *rho_static;   /* sum over boundary neighbours of m_k W_bk */
+    double *rho;          /* predicted density (eq. 13) */
+    double *p;            /* pressure */
+    double *pt;           /* p / rho^2 */
+    double *vx, *vy, *vz; /* wall velocity (moving bodies; 0 for static walls) */
+    double *x0, *y0, *z0; /* position and normal at rest (body frame = world at t = 0) */
     double *nx0, *ny0, *nz0;
-    uint32_t *body;           /* index of the geometry body it samples */
-    uint32_t *id;             /* index at creation: the order within a cell */
-    double *scratch;          /* permutation scratch */
+    uint32_t *body;  /* index of the geometry body it samples */
+    uint32_t *id;    /* index at creation: the order within a cell */
+    double *scratch; /* permutation scratch */
     uint32_t *scratch_u;
     size_t scratch_cap;
 } sl_boundary;
@@ -60,8 +60,7 @@ void prt_fluid_init(sl_fluid *f);
 void prt_fluid_reserve(sl_fluid *f, size_t cap);
 void prt_fluid_free(sl_fluid *f);
 /* Append a particle at rest-state fields (p = 0, rho = 0). */
-void prt_fluid_push(sl_fluid *f, double x, double y, double z,
-                    double vx, double vy, double vz);
+void prt_fluid_push(sl_fluid *f, double x, double y, double z, double vx, double vy, double vz);
 /* Reorder every per-particle array so that new[i] = old[perm[i]]. */
 void prt_fluid_permute(sl_fluid *f, const uint32_t *perm);
 
@@ -77,8 +76,8 @@ int prt_fluid_state_pairs(sl_fluid *f, double **state[PRT_STATE_PAIRS],
 void prt_boundary_init(sl_boundary *b);
 void prt_boundary_reserve(sl_boundary *b, size_t cap);
 void prt_boundary_free(sl_boundary *b);
-void prt_boundary_push(sl_boundary *b, double x, double y, double z,
-                       double nx, double ny, double nz, uint32_t body);
+void prt_boundary_push(sl_boundary *b, double x, double y, double z, double nx, double ny,
+                       double nz, uint32_t body);
 void prt_boundary_permute(sl_boundary *b, const uint32_t *perm);
 
 #endif

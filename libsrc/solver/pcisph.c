@@ -15,11 +15,11 @@
 #include "solver/pcs_parallel.h"
 
 /* Accumulate the wall-clock time of `body` in s->time.<phase>. */
-#define PHASE(s, phase, body)                                                  \
-    do {                                                                       \
-        const double t0_ = omp_get_wtime();                                    \
-        body;                                                                  \
-        (s)->time.phase += omp_get_wtime() - t0_;                              \
+#define PHASE(s, phase, body)                     \
+    do {                                          \
+        const double t0_ = omp_get_wtime();       \
+        body;                                     \
+        (s)->time.phase += omp_get_wtime() - t0_; \
     } while (0)
 
 void pcs_params_default(pcs_params *p)
@@ -44,11 +44,13 @@ double pcs_delta(const krn_kernel *k, double r0, double mass, double rho0, doubl
                 double x = i * r0, y = j * r0, z = l * r0;
                 double r = sqrt(x * x + y * y + z * z);
                 double f = krn_gradf(k, r);
-                gx += f * x; gy += f * y; gz += f * z;
+                gx += f * x;
+                gy += f * y;
+                gz += f * z;
                 gg += f * f * (x * x + y * y + z * z);
             }
-    double beta = 2.0 * (mass * dt / rho0) * (mass * dt / rho0);        /* eq. (5) */
-    return -1.0 / (beta * (-(gx * gx + gy * gy + gz * gz) - gg));        /* eq. (4) */
+    double beta = 2.0 * (mass * dt / rho0) * (mass * dt / rho0);  /* eq. (5) */
+    return -1.0 / (beta * (-(gx * gx + gy * gy + gz * gz) - gg)); /* eq. (4) */
 }
 
 void pcs_set_dt(pcs_solver *s, double dt)
@@ -77,20 +79,31 @@ static bnd_pass boundary_pass(const pcs_solver *s)
     return (bnd_pass){s->k, s->fb.start, s->fb.idx, s->b, s->bstate};
 }
 
-static eff_view effect_view(pcs_solver *s, double t, double dt, const double *px,
-                            const double *py, const double *pz)
+static eff_view effect_view(pcs_solver *s, double t, double dt, const double *px, const double *py,
+                            const double *pz)
 {
-    return (eff_view){.f = s->f, .b = s->b, .grid = &s->grid, .ff = &s->ff, .fb = &s->fb,
-                      .k = s->k, .h = s->h, .r0 = s->prm.r0, .mass = s->mass,
-                      .rho0 = s->prm.rho0, .gravity = s->prm.gravity, .t = t, .dt = dt,
-                      .px = px, .py = py, .pz = pz,
+    return (eff_view){.f = s->f,
+                      .b = s->b,
+                      .grid = &s->grid,
+                      .ff = &s->ff,
+                      .fb = &s->fb,
+                      .k = s->k,
+                      .h = s->h,
+                      .r0 = s->prm.r0,
+                      .mass = s->mass,
+                      .rho0 = s->prm.rho0,
+                      .gravity = s->prm.gravity,
+                      .t = t,
+                      .dt = dt,
+                      .px = px,
+                      .py = py,
+                      .pz = pz,
                       .wall_density = s->prm.method->wall_density};
 }
 
 /* Before a density pass at positions (px, py, pz): prepare the EFF_DENSITY
  * effects (counted and timed as every effect). */
-static eff_view density_effects(pcs_solver *s, const double *px, const double *py,
-                                const double *pz)
+static eff_view density_effects(pcs_solver *s, const double *px, const double *py, const double *pz)
 {
     eff_view v = effect_view(s, s->t, s->dt, px, py, pz);
     eff_run(s->eff, EFF_DENSITY, &v);
@@ -131,8 +144,10 @@ static void boundary_density(const pcs_solver *s)
 #pragma omp for schedule(dynamic, 256) nowait
     for (size_t q = q0; q < q1; q++) {
         const uint32_t i = set[q];
-        const double r = brs[i] + m * sph_sum_w(k, bfi, bfs[i], bfs[i + 1], bx[i], by[i], bz[i],
-                                                 xs, ys, zs); /* eq. (13) */
+        const double r = brs[i] +
+            m *
+                sph_sum_w(k, bfi, bfs[i], bfs[i + 1], bx[i], by[i], bz[i], xs, ys,
+                          zs); /* eq. (13) */
         const double pn = bp[i] + delta * (r - rho0);
         const double pc = pn > 0.0 ? pn : 0.0;
         brho[i] = r;
@@ -276,33 +291,52 @@ typedef struct pass_ctx {
     krn_kernel k;
     double m, rho0, delta, self;
     const uint32_t *ffs, *ffi, *fbs, *fbi;
-    const double *x, *y, *z;          /* positions of the pass: x* or x(t) */
+    const double *x, *y, *z; /* positions of the pass: x* or x(t) */
     const double *bx, *by, *bz, *bm;
     double *rho, *p, *pt, *err, *err_vol;
     double *apx, *apy, *apz;
-    bnd_pass bp;                      /* what the method's terms read */
-    eff_view dv;                      /* what the EFF_DENSITY effects read */
+    bnd_pass bp; /* what the method's terms read */
+    eff_view dv; /* what the EFF_DENSITY effects read */
     const pcs_solver *s;
-    int corrected;                    /* EFF_DENSITY effects in the set */
+    int corrected; /* EFF_DENSITY effects in the set */
 } pass_ctx;
 
 static pass_ctx pass_begin(pcs_solver *s, const double *x, const double *y, const double *z)
 {
     const sl_fluid *f = s->f;
     const sl_boundary *b = s->b;
-    pass_ctx c = {.k = s->k, .m = s->mass, .rho0 = s->prm.rho0, .delta = s->delta,
+    pass_ctx c = {.k = s->k,
+                  .m = s->mass,
+                  .rho0 = s->prm.rho0,
+                  .delta = s->delta,
                   .self = s->mass * krn_w(&s->k, 0.0),
-                  .ffs = s->ff.start, .ffi = s->ff.idx, .fbs = s->fb.start, .fbi = s->fb.idx,
-                  .x = x, .y = y, .z = z, .bx = b->x, .by = b->y, .bz = b->z, .bm = b->mass,
-                  .rho = f->rho, .p = f->p, .pt = f->pt, .err = s->err, .err_vol = s->err_vol,
-                  .apx = f->apx, .apy = f->apy, .apz = f->apz,
-                  .bp = boundary_pass(s), .s = s, .corrected = s->ndens > 0};
+                  .ffs = s->ff.start,
+                  .ffi = s->ff.idx,
+                  .fbs = s->fb.start,
+                  .fbi = s->fb.idx,
+                  .x = x,
+                  .y = y,
+                  .z = z,
+                  .bx = b->x,
+                  .by = b->y,
+                  .bz = b->z,
+                  .bm = b->mass,
+                  .rho = f->rho,
+                  .p = f->p,
+                  .pt = f->pt,
+                  .err = s->err,
+                  .err_vol = s->err_vol,
+                  .apx = f->apx,
+                  .apy = f->apy,
+                  .apz = f->apz,
+                  .bp = boundary_pass(s),
+                  .s = s,
+                  .corrected = s->ndens > 0};
     return c;
 }
 
 /* The same before a density pass: the EFF_DENSITY effects are prepared. */
-static pass_ctx density_pass_begin(pcs_solver *s, const double *x, const double *y,
-                                   const double *z)
+static pass_ctx density_pass_begin(pcs_solver *s, const double *x, const double *y, const double *z)
 {
     pass_ctx c = pass_begin(s, x, y, z);
     c.dv = density_effects(s, x, y, z);
@@ -313,17 +347,18 @@ static pass_ctx density_pass_begin(pcs_solver *s, const double *x, const double 
  * neighbours (and itself), the wall's share as the method takes it
  * (eq. 13 for ihmsen2010), and the EFF_DENSITY corrections; *rv is the
  * density with the boundary particles' share, the measure of every method. */
-static inline __attribute__((always_inline)) double
-fluid_density(const pass_ctx *c, size_t i, const int wall_measured,
-              const wall_density_fn wall_term, double *rv)
+static inline __attribute__((always_inline)) double fluid_density(const pass_ctx *c, size_t i,
+                                                                  const int wall_measured,
+                                                                  const wall_density_fn wall_term,
+                                                                  double *rv)
 {
     const double xi = c->x[i], yi = c->y[i], zi = c->z[i];
-    const double rf = c->self + c->m * sph_sum_w(c->k, c->ffi, c->ffs[i], c->ffs[i + 1], xi, yi,
-                                                 zi, c->x, c->y, c->z);
+    const double rf = c->self +
+        c->m * sph_sum_w(c->k, c->ffi, c->ffs[i], c->ffs[i + 1], xi, yi, zi, c->x, c->y, c->z);
     /* the wall's share: part of the density (eq. 13) or only measured */
-    const double rb = wall_measured ? sph_sum_mw(c->k, c->fbi, c->fbs[i], c->fbs[i + 1], xi, yi,
-                                                 zi, c->bx, c->by, c->bz, c->bm)
-                                    : 0.0;
+    const double rb = wall_measured
+        ? sph_sum_mw(c->k, c->fbi, c->fbs[i], c->fbs[i + 1], xi, yi, zi, c->bx, c->by, c->bz, c->bm)
+        : 0.0;
     double r = rf + wall_term(&c->bp, i, xi, yi, zi, rb);
     *rv = rf + rb;
     if (c->corrected) correct_density(c->s, &c->dv, i, xi, yi, zi, rb, &r, rv);
@@ -351,13 +386,13 @@ predict_one(const pass_ctx *c, size_t i, const int wall, const wall_density_fn w
 
 /* Pressure force per unit mass on fluid particle i, eq. (6): its fluid
  * neighbours, then the wall's term of the method. */
-static inline __attribute__((always_inline)) void
-pressure_one(const pass_ctx *c, size_t i, const wall_pressure_fn wall_term)
+static inline __attribute__((always_inline)) void pressure_one(const pass_ctx *c, size_t i,
+                                                               const wall_pressure_fn wall_term)
 {
     const double xi = c->x[i], yi = c->y[i], zi = c->z[i];
     double a[3] = {0.0, 0.0, 0.0};
-    sph_sum_pressure(c->k, c->ffi, c->ffs[i], c->ffs[i + 1], xi, yi, zi, c->pt[i], c->x, c->y,
-                     c->z, c->pt, NULL, c->m, a);
+    sph_sum_pressure(c->k, c->ffi, c->ffs[i], c->ffs[i + 1], xi, yi, zi, c->pt[i], c->x, c->y, c->z,
+                     c->pt, NULL, c->m, a);
     wall_term(&c->bp, i, xi, yi, zi, c->pt[i], a);
     c->apx[i] = a[0];
     c->apy[i] = a[1];
@@ -375,59 +410,59 @@ pressure_one(const pass_ctx *c, size_t i, const wall_pressure_fn wall_term)
  *              returns the largest compression (absolute);
  *   M_force    the pressure force (eq. 6);
  *   M_current  the density at x(t), for output (no pressure update). */
-#define PCS_METHOD_PASSES(M)                                                        \
-    static double M##_predict(pcs_solver *s)                                       \
-    {                                                                              \
-        const sl_fluid *f = s->f;                                                  \
-        const pass_ctx c = density_pass_begin(s, f->xs, f->ys, f->zs);             \
-        const size_t nb = (f->n + SL_REDUCE_BLOCK - 1) / SL_REDUCE_BLOCK;          \
-        const size_t i0 = s->split.row[s->split.rank], i1 = s->split.row[s->split.rank + 1]; \
-        const size_t b0 = i0 / SL_REDUCE_BLOCK;                                    \
-        const size_t b1 = i1 > i0 ? (i1 + SL_REDUCE_BLOCK - 1) / SL_REDUCE_BLOCK : b0; \
-        double *restrict part = s->err_block;                                      \
-        double emax = 0.0;                                                         \
-        _Pragma("omp parallel reduction(max : emax)")                              \
-        {                                                                          \
-            _Pragma("omp for schedule(dynamic, 1) nowait")                         \
-            for (size_t blk = b0; blk < b1; blk++) {                               \
-                const size_t bl = blk * SL_REDUCE_BLOCK, lo = bl > i0 ? bl : i0;   \
-                const size_t hi = bl + SL_REDUCE_BLOCK < i1 ? bl + SL_REDUCE_BLOCK : i1; \
-                double sum = 0.0;                                                  \
-                for (size_t i = lo; i < hi; i++) {                                 \
-                    const double e = predict_one(&c, i, M##_wall_density, M##_density); \
-                    emax = e > emax ? e : emax;                                    \
-                    sum += e;                                                      \
-                }                                                                  \
-                part[blk] = sum;                                                   \
-            }                                                                      \
-            if (M##_wall_density) boundary_density(s);                             \
-        }                                                                          \
-        if (s->split.size > 1)                                                     \
-            emax = s->split.halo ? pcx_after_density(s, emax)                      \
-                                 : gather_predicted(s, M##_wall_density, emax);    \
-        double total = 0.0;                                                        \
-        for (size_t blk = 0; blk < nb; blk++) total += part[blk];                  \
-        s->err_sum = total;                                                        \
-        return emax;                                                               \
-    }                                                                              \
-    static void M##_force(pcs_solver *s)                                           \
-    {                                                                              \
-        const sl_fluid *f = s->f;                                                  \
-        const pass_ctx c = pass_begin(s, f->xs, f->ys, f->zs);                     \
-        const size_t i0 = s->split.row[s->split.rank], i1 = s->split.row[s->split.rank + 1]; \
-        _Pragma("omp parallel for schedule(dynamic, 1024)")                        \
-        for (size_t i = i0; i < i1; i++) pressure_one(&c, i, M##_pressure);        \
-        if (s->split.size > 1 && !s->split.halo) gather_force(s);                  \
-    }                                                                              \
-    static void M##_current(pcs_solver *s)                                         \
-    {                                                                              \
-        const sl_fluid *f = s->f;                                                  \
-        const pass_ctx c = density_pass_begin(s, f->x, f->y, f->z);                \
-        const size_t n = f->n;                                                     \
-        double rv;                                                                 \
-        _Pragma("omp parallel for schedule(dynamic, 1024) private(rv)")            \
-        for (size_t i = 0; i < n; i++)                                             \
-            c.rho[i] = fluid_density(&c, i, M##_wall_density, M##_density, &rv);   \
+#define PCS_METHOD_PASSES(M)                                                                      \
+    static double M##_predict(pcs_solver *s)                                                      \
+    {                                                                                             \
+        const sl_fluid *f = s->f;                                                                 \
+        const pass_ctx c = density_pass_begin(s, f->xs, f->ys, f->zs);                            \
+        const size_t nb = (f->n + SL_REDUCE_BLOCK - 1) / SL_REDUCE_BLOCK;                         \
+        const size_t i0 = s->split.row[s->split.rank], i1 = s->split.row[s->split.rank + 1];      \
+        const size_t b0 = i0 / SL_REDUCE_BLOCK;                                                   \
+        const size_t b1 = i1 > i0 ? (i1 + SL_REDUCE_BLOCK - 1) / SL_REDUCE_BLOCK : b0;            \
+        double *restrict part = s->err_block;                                                     \
+        double emax = 0.0;                                                                        \
+        _Pragma("omp parallel reduction(max : emax)")                                             \
+        {                                                                                         \
+            _Pragma("omp for schedule(dynamic, 1) nowait") for (size_t blk = b0; blk < b1; blk++) \
+            {                                                                                     \
+                const size_t bl = blk * SL_REDUCE_BLOCK, lo = bl > i0 ? bl : i0;                  \
+                const size_t hi = bl + SL_REDUCE_BLOCK < i1 ? bl + SL_REDUCE_BLOCK : i1;          \
+                double sum = 0.0;                                                                 \
+                for (size_t i = lo; i < hi; i++) {                                                \
+                    const double e = predict_one(&c, i, M##_wall_density, M##_density);           \
+                    emax = e > emax ? e : emax;                                                   \
+                    sum += e;                                                                     \
+                }                                                                                 \
+                part[blk] = sum;                                                                  \
+            }                                                                                     \
+            if (M##_wall_density) boundary_density(s);                                            \
+        }                                                                                         \
+        if (s->split.size > 1)                                                                    \
+            emax = s->split.halo ? pcx_after_density(s, emax)                                     \
+                                 : gather_predicted(s, M##_wall_density, emax);                   \
+        double total = 0.0;                                                                       \
+        for (size_t blk = 0; blk < nb; blk++) total += part[blk];                                 \
+        s->err_sum = total;                                                                       \
+        return emax;                                                                              \
+    }                                                                                             \
+    static void M##_force(pcs_solver *s)                                                          \
+    {                                                                                             \
+        const sl_fluid *f = s->f;                                                                 \
+        const pass_ctx c = pass_begin(s, f->xs, f->ys, f->zs);                                    \
+        const size_t i0 = s->split.row[s->split.rank], i1 = s->split.row[s->split.rank + 1];      \
+        _Pragma("omp parallel for schedule(dynamic, 1024)") for (size_t i = i0; i < i1; i++)      \
+            pressure_one(&c, i, M##_pressure);                                                    \
+        if (s->split.size > 1 && !s->split.halo) gather_force(s);                                 \
+    }                                                                                             \
+    static void M##_current(pcs_solver *s)                                                        \
+    {                                                                                             \
+        const sl_fluid *f = s->f;                                                                 \
+        const pass_ctx c = density_pass_begin(s, f->x, f->y, f->z);                               \
+        const size_t n = f->n;                                                                    \
+        double rv;                                                                                \
+        _Pragma("omp parallel for schedule(dynamic, 1024) private(rv)") for (size_t i = 0; i < n; \
+                                                                             i++) c.rho[i] =      \
+            fluid_density(&c, i, M##_wall_density, M##_density, &rv);                             \
     }
 BND_METHODS(PCS_METHOD_PASSES)
 #define PCS_METHOD_ENTRY(M) {&M##_method, M##_predict, M##_force, M##_current},
@@ -454,8 +489,8 @@ static void split_init(pcs_split *sp, size_t nb)
     if (sp->size > 1) sp->bbuf = sl_alloc_aligned((3 * nb + 1) * sizeof *sp->bbuf, "boundary rows");
 }
 
-void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b,
-              const double lo[3], const double hi[3], double dt, eff_set *effects)
+void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b, const double lo[3],
+              const double hi[3], double dt, eff_set *effects)
 {
     memset(s, 0, sizeof *s);
     s->prm = *p;
@@ -741,10 +776,10 @@ static void pressure_solve(pcs_solver *s, pcs_stats *st)
     double emax;
     int k = 0;
     for (;;) {
-        PHASE(s, predict, predict_positions(s));            /* v*, x*; eq. (9)-(11) */
-        halo_refresh(s, 0);                                 /* images' x* */
-        PHASE(s, density, emax = s->passes->predict(s));    /* rho*, eq. (13); p, eq. (3) */
-        halo_refresh(s, 1);                                 /* images' rho, p, p/rho^2 */
+        PHASE(s, predict, predict_positions(s));         /* v*, x*; eq. (9)-(11) */
+        halo_refresh(s, 0);                              /* images' x* */
+        PHASE(s, density, emax = s->passes->predict(s)); /* rho*, eq. (13); p, eq. (3) */
+        halo_refresh(s, 1);                              /* images' rho, p, p/rho^2 */
         if (k == 0) {
             st->err_max_before = emax / s->prm.rho0;
             st->err_avg_before = average_of(s, s->err_sum);
@@ -754,7 +789,7 @@ static void pressure_solve(pcs_solver *s, pcs_stats *st)
             st->diverging = 1;
             break;
         }
-        PHASE(s, pressure, s->passes->pressure(s));          /* F^p, eq. (6) */
+        PHASE(s, pressure, s->passes->pressure(s)); /* F^p, eq. (6) */
         k++;
         if (k >= s->prm.max_iter || (k >= s->prm.min_iter && reached_eta(s, emax))) break;
     }
@@ -804,12 +839,12 @@ void pcs_step(pcs_solver *s, pcs_stats *st)
 {
     memset(st, 0, sizeof *st);
     ensure_scratch(s);
-    PHASE(s, world, move_world(s));              /* moving bodies at t + dt */
-    PHASE(s, search, pcs_find_neighbours(s));    /* neighbours N_i(t), fluid and boundary */
-    PHASE(s, forces, compute_forces(s));         /* F^{v,g,ext}; p = 0, F^p = 0 */
-    pressure_solve(s, st);                       /* until rho_err* <= eta: eq. (3)-(13) */
-    PHASE(s, integrate, integrate(s, st));       /* v, x (Euler-Cromer); eq. (9)-(12) */
-    dom_after_integrate(&s->halo, s->f);         /* periodic: x wrapped, images dropped */
+    PHASE(s, world, move_world(s));           /* moving bodies at t + dt */
+    PHASE(s, search, pcs_find_neighbours(s)); /* neighbours N_i(t), fluid and boundary */
+    PHASE(s, forces, compute_forces(s));      /* F^{v,g,ext}; p = 0, F^p = 0 */
+    pressure_solve(s, st);                    /* until rho_err* <= eta: eq. (3)-(13) */
+    PHASE(s, integrate, integrate(s, st));    /* v, x (Euler-Cromer); eq. (9)-(12) */
+    dom_after_integrate(&s->halo, s->f);      /* periodic: x wrapped, images dropped */
     s->t += s->dt;
 }
 
@@ -821,8 +856,15 @@ void pcs_post_step(pcs_solver *s, double t, double dt)
 
 pcs_view pcs_view_of(const pcs_solver *s)
 {
-    return (pcs_view){.f = s->f, .b = s->b, .grid = &s->grid, .bf = &s->bf, .k = s->k,
-                      .h = s->h, .r0 = s->prm.r0, .mass = s->mass, .rho0 = s->prm.rho0,
+    return (pcs_view){.f = s->f,
+                      .b = s->b,
+                      .grid = &s->grid,
+                      .bf = &s->bf,
+                      .k = s->k,
+                      .h = s->h,
+                      .r0 = s->prm.r0,
+                      .mass = s->mass,
+                      .rho0 = s->prm.rho0,
                       .gravity = s->prm.gravity,
                       .periodic = s->prm.periodic.axes ? &s->prm.periodic : NULL,
                       .boundary_images = s->halo.nb_img > 0};

@@ -32,18 +32,18 @@
 #include "particles/particles.h"
 
 typedef struct pcs_params {
-    double rho0;          /* rest density */
-    double r0;            /* particle spacing; h = 2 r0 */
+    double rho0; /* rest density */
+    double r0;   /* particle spacing; h = 2 r0 */
     double gravity[3];
-    double eta;           /* tolerated density error, fraction of rho0 (0.01 = 1 %) */
+    double eta; /* tolerated density error, fraction of rho0 (0.01 = 1 %) */
     int min_iter, max_iter;
-    double stop_max;      /* > 0: the iterations stop when the average compression is at
+    double stop_max;               /* > 0: the iterations stop when the average compression is at
                            * most eta and the largest at most stop_max (fractions of rho0;
                            * time-step controller cost); 0: when the largest is at most eta */
-    double epsilon;       /* eq. (12): tangential velocity kept on contact */
+    double epsilon;                /* eq. (12): tangential velocity kept on contact */
     const bnd_method_type *method; /* boundary handling (constant/boundaryProperties) */
-    double restitution;   /* becker2009: delta of eq. (7) */
-    dom_periodic periodic; /* periodic axes and their period (axes 0: none) */
+    double restitution;            /* becker2009: delta of eq. (7) */
+    dom_periodic periodic;         /* periodic axes and their period (axes 0: none) */
 } pcs_params;
 
 /* The compiled defaults (equal to the annotated files of etc/caseDicts;
@@ -58,27 +58,27 @@ static inline double pcs_mass(double rho0, double r0) { return rho0 * r0 * r0 * 
 /* What one step did (logged every step). Errors are fractions of rho0. */
 typedef struct pcs_stats {
     int iterations;
-    int converged;           /* max error <= eta at exit */
-    double err_avg_before, err_max_before;  /* first prediction (p = 0) */
-    double err_avg, err_max;                /* last prediction */
+    int converged;                         /* max error <= eta at exit */
+    double err_avg_before, err_max_before; /* first prediction (p = 0) */
+    double err_avg, err_max;               /* last prediction */
     /* The same compression measured alike for every boundary method: the
      * density with the wall's share from the boundary particles of eq. (13)
      * (ihmsen2010: err_avg, err_max; becker2009 and harada2007 solve
      * without it, so their own err_* cannot see fluid pressed into a wall). */
     double vol_avg, vol_max;
-    double vmax;             /* max |v(t + dt)| */
-    double fmax;             /* max |F/m| (all forces) */
-    size_t nactive;          /* active boundary particles */
-    size_t ncollide;         /* fluid particles corrected by the final collision */
-    int diverging;           /* the iterations stopped because the error grew */
+    double vmax;     /* max |v(t + dt)| */
+    double fmax;     /* max |F/m| (all forces) */
+    size_t nactive;  /* active boundary particles */
+    size_t ncollide; /* fluid particles corrected by the final collision */
+    int diverging;   /* the iterations stopped because the error grew */
 } pcs_stats;
 
 /* Wall-clock seconds spent in each phase (accumulated). */
 typedef struct pcs_timers {
     double world, search, forces, predict, density, pressure, integrate;
-    double sort, list_ff, list_bf;   /* parts of search: sorting, fluid rows, boundary rows */
-    double halo;                     /* halo copies: building (search) and refreshing */
-    double comm;                     /* MPI exchanges (-parallel), inside density and pressure */
+    double sort, list_ff, list_bf; /* parts of search: sorting, fluid rows, boundary rows */
+    double halo;                   /* halo copies: building (search) and refreshing */
+    double comm;                   /* MPI exchanges (-parallel), inside density and pressure */
 } pcs_timers;
 
 /* -parallel, phase 1 (replicated state, doc/parallel.md): every rank holds
@@ -90,20 +90,20 @@ typedef struct pcs_timers {
  * serial code, nothing exchanged. */
 typedef struct pcs_split {
     int rank, size;
-    size_t *row, *act;               /* size + 1 entries each, set by each search */
-    double *bbuf;                    /* active boundary rho, p, p/rho^2 packed by rank (3 x nb) */
-    size_t rows_min, rows_max;       /* fluid rows per rank of the last search */
-    long steps;                      /* searches split */
-    long empty;                      /* of them, with a rank holding no fluid row */
-    int halo;                        /* halo mode (solver/pcs_parallel.h) */
-    struct pcs_halo_x *hx;           /* its lists and buffers */
-    uint32_t *bset;                  /* halo mode: the boundary particles this rank computes */
+    size_t *row, *act;         /* size + 1 entries each, set by each search */
+    double *bbuf;              /* active boundary rho, p, p/rho^2 packed by rank (3 x nb) */
+    size_t rows_min, rows_max; /* fluid rows per rank of the last search */
+    long steps;                /* searches split */
+    long empty;                /* of them, with a rank holding no fluid row */
+    int halo;                  /* halo mode (solver/pcs_parallel.h) */
+    struct pcs_halo_x *hx;     /* its lists and buffers */
+    uint32_t *bset;            /* halo mode: the boundary particles this rank computes */
     size_t nbset, bset_cap;
-    size_t halo_rows, halo_max;      /* halo rows received, last search and largest */
-    double halo_sum;                 /* summed over the searches */
-    int32_t *owner;                  /* rank of particle id at the last search (-1: none) */
+    size_t halo_rows, halo_max; /* halo rows received, last search and largest */
+    double halo_sum;            /* summed over the searches */
+    int32_t *owner;             /* rank of particle id at the last search (-1: none) */
     size_t owner_cap;
-    long moved_up, moved_down;       /* particles whose rank rose / fell between searches */
+    long moved_up, moved_down;         /* particles whose rank rose / fell between searches */
     double rows_min_sum, rows_max_sum; /* their sums over those searches (balance) */
 } pcs_split;
 
@@ -116,8 +116,8 @@ struct pcs_solver {
     double h, mass, dt, beta, delta, eta_abs;
     krn_kernel k;
     bnd_calibration cal;
-    bnd_setup bsu;         /* what the boundary method was set up with */
-    void *bstate;          /* the boundary method's own state */
+    bnd_setup bsu; /* what the boundary method was set up with */
+    void *bstate;  /* the boundary method's own state */
     const pcs_method_passes *passes;
     sl_fluid *f;
     sl_boundary *b;
@@ -125,19 +125,19 @@ struct pcs_solver {
     nbr_list ff, fb, bf;
     uint32_t *active;
     size_t nactive;
-    double *err;           /* per-fluid-particle compression (scratch) */
-    double *err_block;     /* its sums by blocks of SL_REDUCE_BLOCK (last prediction) */
-    double err_sum;        /* their sum in block order */
-    double *err_vol;       /* methods without wall density: the same with the wall's share */
+    double *err;       /* per-fluid-particle compression (scratch) */
+    double *err_block; /* its sums by blocks of SL_REDUCE_BLOCK (last prediction) */
+    double err_sum;    /* their sum in block order */
+    double *err_vol;   /* methods without wall density: the same with the wall's share */
     size_t err_cap;
-    double *ap_best;       /* pressure force of the best iteration (3 x cap) */
+    double *ap_best; /* pressure force of the best iteration (3 x cap) */
     pcs_timers time;
-    eff_set *eff;          /* the case's effects (not owned; may be NULL) */
-    eff_instance **dens;   /* its EFF_DENSITY effects */
+    eff_set *eff;        /* the case's effects (not owned; may be NULL) */
+    eff_instance **dens; /* its EFF_DENSITY effects */
     size_t ndens;
-    double t;              /* time of the state (set by the caller before a step) */
-    dom_halo halo;         /* periodic images (domain/dom_periodic.h) */
-    pcs_split split;       /* rows of each rank (-parallel) */
+    double t;        /* time of the state (set by the caller before a step) */
+    dom_halo halo;   /* periodic images (domain/dom_periodic.h) */
+    pcs_split split; /* rows of each rank (-parallel) */
 };
 
 /* What function objects and post-processing read of the state (a view:
@@ -145,8 +145,8 @@ struct pcs_solver {
 typedef struct pcs_view {
     const sl_fluid *f;
     const sl_boundary *b;
-    const nbr_grid *grid;     /* f and b as sorted at the last neighbour search */
-    const nbr_list *bf;       /* boundary -> fluid rows of that search (active boundary) */
+    const nbr_grid *grid; /* f and b as sorted at the last neighbour search */
+    const nbr_list *bf;   /* boundary -> fluid rows of that search (active boundary) */
     krn_kernel k;
     double h, r0, mass, rho0;
     const double *gravity;
@@ -167,8 +167,8 @@ double pcs_delta(const krn_kernel *k, double r0, double mass, double rho0, doubl
 /* Set up: grid over [lo, hi], boundary sorted and its masses set,
  * fluid sorted, delta for dt.  The solver keeps pointers to f, b and the
  * effects (NULL: none, not even gravity; see effects/gravity.h). */
-void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b,
-              const double lo[3], const double hi[3], double dt, eff_set *effects);
+void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b, const double lo[3],
+              const double hi[3], double dt, eff_set *effects);
 void pcs_free(pcs_solver *s);
 /* Change the time step; recomputes beta and delta (eq. 4, 5). */
 void pcs_set_dt(pcs_solver *s, double dt);

@@ -36,10 +36,7 @@ void hist_remember(pcs_history *h, const sl_fluid *f, double t, double dt, long 
     h->n++;
 }
 
-pcs_run_state *hist_last(pcs_history *h)
-{
-    return h->n > 0 ? &h->ring[(h->n - 1) % 2] : NULL;
-}
+pcs_run_state *hist_last(pcs_history *h) { return h->n > 0 ? &h->ring[(h->n - 1) % 2] : NULL; }
 
 const pcs_run_state *hist_roll_back(pcs_history *h, sl_fluid *f, ts_state *ctl, eff_set *e)
 {

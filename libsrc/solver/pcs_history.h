@@ -19,12 +19,12 @@
 typedef struct pcs_run_state {
     pcs_snapshot snap;
     ts_state ctl;
-    unsigned char *eff;       /* eff_state_size bytes */
+    unsigned char *eff; /* eff_state_size bytes */
 } pcs_run_state;
 
 typedef struct pcs_history {
     pcs_run_state ring[2];
-    int n;                    /* states kept since the start or the last rollback */
+    int n; /* states kept since the start or the last rollback */
     size_t eff_size;
 } pcs_history;
 

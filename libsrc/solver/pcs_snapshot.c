@@ -63,6 +63,6 @@ int snap_equal(const pcs_snapshot *a, const pcs_snapshot *b)
     if (a->n == 0) return 1;
     const size_t bytes = a->n * sizeof(double);
     return !memcmp(a->x, b->x, bytes) && !memcmp(a->y, b->y, bytes) && !memcmp(a->z, b->z, bytes) &&
-           !memcmp(a->vx, b->vx, bytes) && !memcmp(a->vy, b->vy, bytes) &&
-           !memcmp(a->vz, b->vz, bytes) && !memcmp(a->id, b->id, a->n * sizeof *a->id);
+        !memcmp(a->vx, b->vx, bytes) && !memcmp(a->vy, b->vy, bytes) &&
+        !memcmp(a->vz, b->vz, bytes) && !memcmp(a->id, b->id, a->n * sizeof *a->id);
 }

@@ -86,8 +86,9 @@ double ts_initial(const ts_params *p, double h, double v0max, double g_norm, dou
             snprintf(rule, len, "deltaTMax %g (no velocity and no gravity)", p->delta_t_max);
             return p->delta_t_max;
         }
-        snprintf(rule, len, "no time scale (fluid at rest without gravity): "
-                            "set deltaT or deltaTMax in system/timeStepDict");
+        snprintf(rule, len,
+                 "no time scale (fluid at rest without gravity): "
+                 "set deltaT or deltaTMax in system/timeStepDict");
         return 0.0;
     }
     if (p->delta_t_max > 0.0 && dt > p->delta_t_max) {
@@ -119,18 +120,18 @@ static unsigned evaluate(const ts_params *p, const ts_state *s, double eta_avg, 
 {
     const double dt = s->dt, sf = force_scale(h, o->fmax), sv = velocity_scale(h, o->vmax);
     unsigned c = 0;
-    if (p->increase_force * sf > dt) c |= TS_C16;                          /* eq. (16) */
-    if (o->err_max < p->increase_max_density * eta_avg) c |= TS_C17;       /* eq. (17) */
-    if (o->err_avg < p->increase_avg_density * eta_avg) c |= TS_C18;       /* eq. (18) */
-    if (p->increase_velocity * sv > dt) c |= TS_C19;                       /* eq. (19) */
-    if (p->decrease_force * sf < dt) c |= TS_C20;                          /* eq. (20) */
-    if (o->err_max > p->decrease_max_density * eta_avg) c |= TS_C21;       /* eq. (21) */
-    if (o->err_avg >= p->decrease_avg_density * eta_avg) c |= TS_C22;      /* eq. (22) */
-    if (p->decrease_velocity * sv <= dt) c |= TS_C23;                      /* eq. (23) */
+    if (p->increase_force * sf > dt) c |= TS_C16;                     /* eq. (16) */
+    if (o->err_max < p->increase_max_density * eta_avg) c |= TS_C17;  /* eq. (17) */
+    if (o->err_avg < p->increase_avg_density * eta_avg) c |= TS_C18;  /* eq. (18) */
+    if (p->increase_velocity * sv > dt) c |= TS_C19;                  /* eq. (19) */
+    if (p->decrease_force * sf < dt) c |= TS_C20;                     /* eq. (20) */
+    if (o->err_max > p->decrease_max_density * eta_avg) c |= TS_C21;  /* eq. (21) */
+    if (o->err_avg >= p->decrease_avg_density * eta_avg) c |= TS_C22; /* eq. (22) */
+    if (p->decrease_velocity * sv <= dt) c |= TS_C23;                 /* eq. (23) */
     if (s->have_prev && o->err_max - s->prev_err_max > ts_delta_shock(p, eta_avg))
-        c |= TS_C25;                                                       /* eq. (25) */
-    if (o->err_max > ts_eta_max(p, eta_avg)) c |= TS_C26;                  /* eq. (26) */
-    if (p->shock_velocity_cfl * sv < dt) c |= TS_C27;                      /* eq. (27) */
+        c |= TS_C25;                                      /* eq. (25) */
+    if (o->err_max > ts_eta_max(p, eta_avg)) c |= TS_C26; /* eq. (26) */
+    if (p->shock_velocity_cfl * sv < dt) c |= TS_C27;     /* eq. (27) */
     return c;
 }
 
@@ -195,8 +196,8 @@ static ts_action verdict(const ts_params *p, const ts_state *s, double eta_avg, 
     return a;
 }
 
-ts_action ts_update(const ts_params *p, ts_state *s, double eta_avg, double h,
-                    const ts_obs *o, unsigned *criteria)
+ts_action ts_update(const ts_params *p, ts_state *s, double eta_avg, double h, const ts_obs *o,
+                    unsigned *criteria)
 {
     unsigned c;
     ts_action a = TS_KEEP;
@@ -206,8 +207,7 @@ ts_action ts_update(const ts_params *p, ts_state *s, double eta_avg, double h,
     if (s->dt > n->dt_max) n->dt_max = s->dt;
     if (isfinite(o->err_avg) && isfinite(o->err_max) && isfinite(o->vmax) && isfinite(o->fmax))
         c = evaluate(p, s, eta_avg, h, o);
-    else
-        c = TS_NONFINITE;
+    else c = TS_NONFINITE;
     s->prev_err_max = o->err_max; /* history of eq. (25) */
     s->have_prev = 1;
     const double dt_used = s->dt;
@@ -218,11 +218,20 @@ ts_action ts_update(const ts_params *p, ts_state *s, double eta_avg, double h,
         a = decide(p, s, h, o, &c);
     }
     switch (a) {
-    case TS_KEEP: n->keep++; break;
-    case TS_INCREASE: n->increase++; break;
-    case TS_DECREASE: n->decrease++; break;
-    case TS_SHOCK: n->shock++; break;
-    default: break;
+    case TS_KEEP:
+        n->keep++;
+        break;
+    case TS_INCREASE:
+        n->increase++;
+        break;
+    case TS_DECREASE:
+        n->decrease++;
+        break;
+    case TS_SHOCK:
+        n->shock++;
+        break;
+    default:
+        break;
     }
     if (criteria) *criteria = c;
     return verdict(p, s, eta_avg, o, a, c, dt_used);
@@ -231,15 +240,18 @@ ts_action ts_update(const ts_params *p, ts_state *s, double eta_avg, double h,
 const char *ts_failure(ts_action a)
 {
     switch (a) {
-    case TS_TOO_SMALL: return "not stable: the time step fell below deltaTMin";
+    case TS_TOO_SMALL:
+        return "not stable: the time step fell below deltaTMin";
     case TS_DIVERGED:
         return "the solution diverged (non-finite velocity or density); reduce deltaT in "
                "system/timeStepDict or use mode adaptive";
     case TS_NOT_CONVERGING:
         return "not converging: PCISPH cannot bring the density error below eta at this "
                "deltaT; reduce deltaT in system/timeStepDict or use mode adaptive";
-    case TS_SHOCK_STORM: return "not converging: shocks keep shrinking the time step";
-    default: return NULL;
+    case TS_SHOCK_STORM:
+        return "not converging: shocks keep shrinking the time step";
+    default:
+        return NULL;
     }
 }
 
@@ -248,21 +260,28 @@ const char *ts_failure(ts_action a)
 const char *ts_action_name(ts_action a)
 {
     switch (a) {
-    case TS_KEEP: return "keep";
-    case TS_INCREASE: return "increase";
-    case TS_DECREASE: return "decrease";
-    case TS_SHOCK: return "shock";
-    case TS_TOO_SMALL: return "tooSmall";
-    case TS_DIVERGED: return "diverged";
-    case TS_NOT_CONVERGING: return "notConverging";
-    case TS_SHOCK_STORM: return "shockStorm";
+    case TS_KEEP:
+        return "keep";
+    case TS_INCREASE:
+        return "increase";
+    case TS_DECREASE:
+        return "decrease";
+    case TS_SHOCK:
+        return "shock";
+    case TS_TOO_SMALL:
+        return "tooSmall";
+    case TS_DIVERGED:
+        return "diverged";
+    case TS_NOT_CONVERGING:
+        return "notConverging";
+    case TS_SHOCK_STORM:
+        return "shockStorm";
     }
     return "?";
 }
 
 /* Append "; " between items. */
-static void item(char *buf, size_t len, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
+static void item(char *buf, size_t len, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 
 static void item(char *buf, size_t len, const char *fmt, ...)
 {

@@ -184,48 +184,49 @@ typedef enum {
     TS_INCREASE,
     TS_DECREASE,
     TS_SHOCK,
-    TS_TOO_SMALL,       /* the step fell below deltaTMin */
-    TS_DIVERGED,        /* a non-finite velocity or density, and no shock to go back from */
-    TS_NOT_CONVERGING,  /* constant mode: iterating cannot bring the error below eta */
-    TS_SHOCK_STORM      /* shocks keep shrinking the step */
+    TS_TOO_SMALL,      /* the step fell below deltaTMin */
+    TS_DIVERGED,       /* a non-finite velocity or density, and no shock to go back from */
+    TS_NOT_CONVERGING, /* constant mode: iterating cannot bring the error below eta */
+    TS_SHOCK_STORM     /* shocks keep shrinking the step */
 } ts_action;
 
 /* Why the run cannot go on after action a (with what to do), or NULL. */
 const char *ts_failure(ts_action a);
 
 /* Criterion flags: (16)-(23) "holds", (25)-(27) "fired". */
-#define TS_C16 (1u << 0)
-#define TS_C17 (1u << 1)
-#define TS_C18 (1u << 2)
-#define TS_C19 (1u << 3)
-#define TS_C20 (1u << 4)
-#define TS_C21 (1u << 5)
-#define TS_C22 (1u << 6)
-#define TS_C23 (1u << 7)
-#define TS_C25 (1u << 8)
-#define TS_C26 (1u << 9)
-#define TS_C27 (1u << 10)
-#define TS_C24_FORCE (1u << 11)    /* dt_new from the force term of (24) */
+#define TS_C16          (1u << 0)
+#define TS_C17          (1u << 1)
+#define TS_C18          (1u << 2)
+#define TS_C19          (1u << 3)
+#define TS_C20          (1u << 4)
+#define TS_C21          (1u << 5)
+#define TS_C22          (1u << 6)
+#define TS_C23          (1u << 7)
+#define TS_C25          (1u << 8)
+#define TS_C26          (1u << 9)
+#define TS_C27          (1u << 10)
+#define TS_C24_FORCE    (1u << 11) /* dt_new from the force term of (24) */
 #define TS_C24_VELOCITY (1u << 12) /* dt_new from the velocity term of (24) */
-#define TS_LIMIT_RATIO (1u << 13)  /* dt_new limited to shockMaxRatio dt */
-#define TS_LIMIT_MAX (1u << 14)    /* increase limited by deltaTMax */
-#define TS_NONFINITE (1u << 15)    /* an observation is NaN or infinite */
-#define TS_COST_FEWER (1u << 16)   /* cost: fewer iterations than targetIterations */
-#define TS_COST_MORE (1u << 17)    /* cost: more iterations than targetIterations */
-#define TS_COST_LIMIT (1u << 18)   /* cost: next step limited by (16), (19) or deltaTMax */
-#define TS_COST_ABOVE (1u << 19)   /* cost: the average compression stayed above eta */
-#define TS_COST_SHORT (1u << 20)   /* cost: the largest compression stayed above
+#define TS_LIMIT_RATIO  (1u << 13) /* dt_new limited to shockMaxRatio dt */
+#define TS_LIMIT_MAX    (1u << 14) /* increase limited by deltaTMax */
+#define TS_NONFINITE    (1u << 15) /* an observation is NaN or infinite */
+#define TS_COST_FEWER   (1u << 16) /* cost: fewer iterations than targetIterations */
+#define TS_COST_MORE    (1u << 17) /* cost: more iterations than targetIterations */
+#define TS_COST_LIMIT   (1u << 18) /* cost: next step limited by (16), (19) or deltaTMax */
+#define TS_COST_ABOVE   (1u << 19) /* cost: the average compression stayed above eta */
+#define TS_COST_SHORT \
+    (1u << 20) /* cost: the largest compression stayed above
                                     * costMaxDensity eta: dt *= costDecreaseFactor^5 */
 #define TS_INCREASE_ALL (TS_C16 | TS_C17 | TS_C18 | TS_C19)
 #define TS_DECREASE_ANY (TS_C20 | TS_C21 | TS_C22 | TS_C23)
-#define TS_SHOCK_ANY (TS_C25 | TS_C26 | TS_C27 | TS_NONFINITE)
+#define TS_SHOCK_ANY    (TS_C25 | TS_C26 | TS_C27 | TS_NONFINITE)
 
 /* Controller cost: the next step after a step taken with s->dt whose
  * criteria are *c (evaluate's flags, to which it adds TS_COST_*): see
  * ts_controller.  Returns TS_SHOCK (s->dt = dt_new), TS_INCREASE,
  * TS_DECREASE or TS_KEEP.  Called by ts_update. */
-ts_action ts_cost_decide(const ts_params *p, ts_state *s, double eta_avg, double h,
-                         const ts_obs *o, unsigned *c);
+ts_action ts_cost_decide(const ts_params *p, ts_state *s, double eta_avg, double h, const ts_obs *o,
+                         unsigned *c);
 /* dt_new of eq. (24), at most shockMaxRatio dt (adds TS_C24_* or TS_LIMIT_RATIO to *c). */
 double ts_shock_step(const ts_params *p, double dt, double h, const ts_obs *o, unsigned *c);
 
@@ -241,8 +242,8 @@ double ts_shock_step(const ts_params *p, double dt, double h, const ts_obs *o, u
  * solver shortened to land on a write time is still passed as s->dt, so the
  * controller's step is not shrunk by output.  *criteria (may be NULL)
  * receives the TS_C* flags. */
-ts_action ts_update(const ts_params *p, ts_state *s, double eta_avg, double h,
-                    const ts_obs *o, unsigned *criteria);
+ts_action ts_update(const ts_params *p, ts_state *s, double eta_avg, double h, const ts_obs *o,
+                    unsigned *criteria);
 
 /* After TS_SHOCK: *s = *snap, but keep the new step and the statistics. */
 void ts_rollback(ts_state *s, const ts_state *snap);

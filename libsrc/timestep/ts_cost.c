@@ -37,14 +37,14 @@
 static double cap_of(const ts_params *p, double h, const ts_obs *o)
 {
     double cap = HUGE_VAL;
-    if (o->vmax > 0.0) cap = fmin(cap, p->increase_velocity * h / o->vmax);      /* (19) */
-    if (o->fmax > 0.0) cap = fmin(cap, p->increase_force * sqrt(h / o->fmax));   /* (16) */
+    if (o->vmax > 0.0) cap = fmin(cap, p->increase_velocity * h / o->vmax);    /* (19) */
+    if (o->fmax > 0.0) cap = fmin(cap, p->increase_force * sqrt(h / o->fmax)); /* (16) */
     if (p->delta_t_max > 0.0) cap = fmin(cap, p->delta_t_max);
     return cap;
 }
 
-ts_action ts_cost_decide(const ts_params *p, ts_state *s, double eta_avg, double h,
-                         const ts_obs *o, unsigned *c)
+ts_action ts_cost_decide(const ts_params *p, ts_state *s, double eta_avg, double h, const ts_obs *o,
+                         unsigned *c)
 {
     const double dt = s->dt;
     if (!(*c & TS_NONFINITE) && o->err_avg > eta_avg) *c |= TS_COST_ABOVE;

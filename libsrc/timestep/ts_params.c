@@ -20,29 +20,29 @@ void ts_params_default(ts_params *p)
 {
     memset(p, 0, sizeof *p);
     p->mode = TS_ADAPTIVE;
-    p->delta_t = 0.0;                /* adaptive: estimated by ts_initial */
-    p->delta_t_min = 0.0;            /* none */
-    p->delta_t_max = 0.0;            /* none */
-    p->iterations = 3;               /* Sec. 3.3: "we limit the number of iterations to three" */
-    p->initial_cfl = 0.25;           /* Sec. 3.3: dt = 0.25 h / v0max */
-    p->eta_max_factor = 10.0;        /* Sec. 3.3: eta_max = 10 eta_avg */
-    p->delta_shock_factor = 5.5;     /* midway in (eta_avg, eta_max), eq. (25) */
-    p->increase_factor = 1.002;      /* +0.2 % */
-    p->decrease_factor = 0.998;      /* -0.2 % */
-    p->increase_force = 0.19;        /* eq. (16) */
-    p->increase_max_density = 4.5;   /* eq. (17) */
-    p->increase_avg_density = 0.9;   /* eq. (18) */
-    p->increase_velocity = 0.39;     /* eq. (19) */
-    p->decrease_force = 0.2;         /* eq. (20) */
-    p->decrease_max_density = 5.5;   /* eq. (21) */
-    p->decrease_avg_density = 1.0;   /* eq. (22) */
-    p->decrease_velocity = 0.4;      /* eq. (23) */
-    p->shock_force = 0.2;            /* eq. (24) */
-    p->shock_velocity = 0.25;        /* eq. (24) */
-    p->shock_velocity_cfl = 0.45;    /* eq. (27) */
-    p->shock_max_ratio = 0.5;        /* not in the paper, see timestep.h */
-    p->controller = TS_IHMSEN2010;   /* the paper's */
-    p->target_iterations = 8;        /* controller cost: doc/timestep-cost.md */
+    p->delta_t = 0.0;              /* adaptive: estimated by ts_initial */
+    p->delta_t_min = 0.0;          /* none */
+    p->delta_t_max = 0.0;          /* none */
+    p->iterations = 3;             /* Sec. 3.3: "we limit the number of iterations to three" */
+    p->initial_cfl = 0.25;         /* Sec. 3.3: dt = 0.25 h / v0max */
+    p->eta_max_factor = 10.0;      /* Sec. 3.3: eta_max = 10 eta_avg */
+    p->delta_shock_factor = 5.5;   /* midway in (eta_avg, eta_max), eq. (25) */
+    p->increase_factor = 1.002;    /* +0.2 % */
+    p->decrease_factor = 0.998;    /* -0.2 % */
+    p->increase_force = 0.19;      /* eq. (16) */
+    p->increase_max_density = 4.5; /* eq. (17) */
+    p->increase_avg_density = 0.9; /* eq. (18) */
+    p->increase_velocity = 0.39;   /* eq. (19) */
+    p->decrease_force = 0.2;       /* eq. (20) */
+    p->decrease_max_density = 5.5; /* eq. (21) */
+    p->decrease_avg_density = 1.0; /* eq. (22) */
+    p->decrease_velocity = 0.4;    /* eq. (23) */
+    p->shock_force = 0.2;          /* eq. (24) */
+    p->shock_velocity = 0.25;      /* eq. (24) */
+    p->shock_velocity_cfl = 0.45;  /* eq. (27) */
+    p->shock_max_ratio = 0.5;      /* not in the paper, see timestep.h */
+    p->controller = TS_IHMSEN2010; /* the paper's */
+    p->target_iterations = 8;      /* controller cost: doc/timestep-cost.md */
     p->cost_increase_factor = 1.01;
     p->cost_decrease_factor = 0.98;
     p->cost_max_density = 8;
@@ -84,7 +84,7 @@ typedef struct ts_scalar_key {
 } ts_scalar_key;
 
 #define TS_KEY_ENTRY(name, field, zero_ok) {name, offsetof(ts_params, field), zero_ok},
-#define TS_KEY_NAME(name, field, zero_ok) name,
+#define TS_KEY_NAME(name, field, zero_ok)  name,
 
 static const ts_scalar_key scalar_keys[] = {TS_SCALARS(TS_KEY_ENTRY)};
 static const char *const key_names[] = {"mode", "controller", "iterations",
@@ -165,27 +165,26 @@ static const char *check_pairs(const ts_params *p, char *why, size_t len)
         if (up > down)
             return reject(why, len, pairs[i].up,
                           "%g exceeds %s %g: a step could be increased and decreased at once "
-                          "(eq. %s)", up, pairs[i].down, down, pairs[i].eqs);
+                          "(eq. %s)",
+                          up, pairs[i].down, down, pairs[i].eqs);
     }
     return NULL;
 }
 
 static const char *check(const ts_params *p, double eta_avg, char *why, size_t len)
 {
-    if (!(eta_avg > 0.0))
-        return reject(why, len, "eta", "eta_avg = %g must be positive", eta_avg);
+    if (!(eta_avg > 0.0)) return reject(why, len, "eta", "eta_avg = %g must be positive", eta_avg);
     for (size_t i = 0; i < NSCALARS; i++) {
         double v = cfield(p, i);
-        if (!(v >= 0.0))
-            return reject(why, len, scalar_keys[i].name, "%g must not be negative", v);
+        if (!(v >= 0.0)) return reject(why, len, scalar_keys[i].name, "%g must not be negative", v);
         if (v == 0.0 && !scalar_keys[i].zero_ok)
             return reject(why, len, scalar_keys[i].name, "must be positive");
     }
     if (p->mode == TS_CONSTANT && !(p->delta_t > 0.0))
         return reject(why, len, "deltaT", "must be positive in constant mode");
     if (p->delta_t_min > 0.0 && p->delta_t_max > 0.0 && !(p->delta_t_min < p->delta_t_max))
-        return reject(why, len, "deltaTMin", "%g must be smaller than deltaTMax %g",
-                      p->delta_t_min, p->delta_t_max);
+        return reject(why, len, "deltaTMin", "%g must be smaller than deltaTMax %g", p->delta_t_min,
+                      p->delta_t_max);
     if (p->delta_t > 0.0 && p->delta_t < p->delta_t_min)
         return reject(why, len, "deltaT", "%g is below deltaTMin %g", p->delta_t, p->delta_t_min);
     if (p->delta_t > 0.0 && p->delta_t_max > 0.0 && p->delta_t > p->delta_t_max)
@@ -222,8 +221,10 @@ static const char *check(const ts_params *p, double eta_avg, char *why, size_t l
                       "end at rho_err_max > eta_max would be a shock, eq. 26)",
                       p->cost_max_density, p->eta_max_factor);
     if (!(p->shock_max_ratio < 1.0))
-        return reject(why, len, "shockMaxRatio", "%g must be smaller than 1 (a shock must shrink "
-                      "the step, or the rolled-back steps repeat)", p->shock_max_ratio);
+        return reject(why, len, "shockMaxRatio",
+                      "%g must be smaller than 1 (a shock must shrink "
+                      "the step, or the rolled-back steps repeat)",
+                      p->shock_max_ratio);
     return check_pairs(p, why, len);
 }
 
@@ -254,19 +255,15 @@ void ts_read(const dict *d, ts_params *p)
     ts_params_default(p);
     dict_warn_unknown(d, key_names);
     need(dict_get_word_or(d, "mode", ts_mode_name(p->mode), &w, &err), &err);
-    if (strcmp(w, "constant") == 0)
-        p->mode = TS_CONSTANT;
-    else if (strcmp(w, "adaptive") == 0)
-        p->mode = TS_ADAPTIVE;
+    if (strcmp(w, "constant") == 0) p->mode = TS_CONSTANT;
+    else if (strcmp(w, "adaptive") == 0) p->mode = TS_ADAPTIVE;
     else {
         snprintf(why, sizeof why, "'%s' is not one of: constant adaptive", w);
         bad_value(d, "mode", why);
     }
     need(dict_get_word_or(d, "controller", ts_controller_name(p->controller), &w, &err), &err);
-    if (strcmp(w, "cost") == 0)
-        p->controller = TS_COST;
-    else if (strcmp(w, "ihmsen2010") == 0)
-        p->controller = TS_IHMSEN2010;
+    if (strcmp(w, "cost") == 0) p->controller = TS_COST;
+    else if (strcmp(w, "ihmsen2010") == 0) p->controller = TS_IHMSEN2010;
     else {
         snprintf(why, sizeof why, "'%s' is not one of: ihmsen2010 cost", w);
         bad_value(d, "controller", why);

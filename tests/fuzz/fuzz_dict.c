@@ -26,8 +26,8 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static const char *const valid_keys[] = {"rho0", "particleSpacing", "gravity", "eta",
-                                         "fluidRegions", "type", "min", "max", NULL};
+static const char *const valid_keys[] = {
+    "rho0", "particleSpacing", "gravity", "eta", "fluidRegions", "type", "min", "max", NULL};
 
 static void check(int ok, const char *what)
 {

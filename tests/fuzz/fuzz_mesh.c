@@ -20,10 +20,10 @@
 #include <unistd.h>
 
 #if defined(FUZZ_OBJ)
-#define EXT "obj"
+#define EXT  "obj"
 #define READ mesh_read_obj
 #elif defined(FUZZ_STL)
-#define EXT "stl"
+#define EXT  "stl"
 #define READ mesh_read_stl
 #else
 #error "define FUZZ_OBJ or FUZZ_STL"

@@ -59,8 +59,7 @@ static inline const char *hostile_class_of(const char *message, const char *case
         if (k > 0) snprintf(buf, len, "%.*s", (int)k, at);
         if (k > 4 && (!strncmp(at + k - 4, ".stl", 4) || !strncmp(at + k - 4, ".obj", 4)))
             snprintf(buf, len, "mesh file");
-        else if (k > 0 && strstr(buf, "../"))
-            snprintf(buf, len, "#include'd file");
+        else if (k > 0 && strstr(buf, "../")) snprintf(buf, len, "#include'd file");
         break;
     }
     return buf;

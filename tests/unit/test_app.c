@@ -138,7 +138,8 @@ static void test_usage_errors(void **state)
     char out[4096];
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
         int rc = parse_in_child(bad[i][0], out, sizeof out);
-        if (rc != 2 || !strstr(out, bad[i][1]) || !strstr(out, "Usage: testApp [options] [<file>...]\n"))
+        if (rc != 2 || !strstr(out, bad[i][1]) ||
+            !strstr(out, "Usage: testApp [options] [<file>...]\n"))
             fail_msg("'%s': status %d, output\n%s", bad[i][0], rc, out);
     }
 }
@@ -151,22 +152,24 @@ static void test_help(void **state)
     char out[8192];
     assert_int_equal(parse_in_child("-jobs x -help", out, sizeof out), 2); /* -jobs x first */
     assert_int_equal(parse_in_child("-help", out, sizeof out), 0);
-    const char *want[] = {"Usage: testApp [options] [<file>...]\n\nOptions:\n",
-                          "\n  -case <dir>    the case (default: the current directory)\n",
-                          "\n  -time <times>  only these times",
-                          "\n  -latestTime    only the latest time\n",
-                          "\n  -jobs <N>      runs at a time (default: 4)\n",
-                          "\n  -refresh <s>   seconds\n",
-                          "\n  -func <word>   a function\n                 repeat for more\n",
-                          "\n  -dryRun        only say\n",
-                          "\n  -help          print this help\n",
-                          "\nOld spellings, still accepted with a warning:\n  -dry-run, -n: use -dryRun\n",
-                          "\n\n  A program of the tests.\n"};
+    const char *want[] = {
+        "Usage: testApp [options] [<file>...]\n\nOptions:\n",
+        "\n  -case <dir>    the case (default: the current directory)\n",
+        "\n  -time <times>  only these times",
+        "\n  -latestTime    only the latest time\n",
+        "\n  -jobs <N>      runs at a time (default: 4)\n",
+        "\n  -refresh <s>   seconds\n",
+        "\n  -func <word>   a function\n                 repeat for more\n",
+        "\n  -dryRun        only say\n",
+        "\n  -help          print this help\n",
+        "\nOld spellings, still accepted with a warning:\n  -dry-run, -n: use -dryRun\n",
+        "\n\n  A program of the tests.\n"};
     for (size_t i = 0; i < sizeof want / sizeof *want; i++)
         if (!strstr(out, want[i])) fail_msg("-help lacks '%s':\n%s", want[i], out);
     assert_int_equal(parse_in_child("-completionWords", out, sizeof out), 0);
-    assert_string_equal(out, "-case dir\n-time string\n-latestTime none\n-jobs int\n"
-                             "-refresh double\n-func string\n-dryRun none\n-help none\n@args path\n");
+    assert_string_equal(out,
+                        "-case dir\n-time string\n-latestTime none\n-jobs int\n"
+                        "-refresh double\n-func string\n-dryRun none\n-help none\n@args path\n");
 }
 
 /* ---- tdir_select -------------------------------------------------------------- */
@@ -209,7 +212,8 @@ static void test_time_selection(void **state)
 {
     (void)state;
     assert_string_equal(selected(NULL, 0, 1), "0 0.1 0.2 0.3 1 2.5");
-    assert_string_equal(selected(NULL, 0, 0), "0.1 0.2 0.3 1 2.5"); /* listTimes without -withZero */
+    assert_string_equal(selected(NULL, 0, 0),
+                        "0.1 0.2 0.3 1 2.5"); /* listTimes without -withZero */
     assert_string_equal(selected(NULL, 1, 1), "2.5");
     assert_string_equal(selected("0.3", 0, 1), "0.3"); /* within 1e-9 (1 + |t|) */
     assert_string_equal(selected("0.1:0.3", 0, 1), "0.1 0.2 0.3");
@@ -227,10 +231,8 @@ static void test_time_selection(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_values),
-        cmocka_unit_test(test_old_spelling),
-        cmocka_unit_test(test_usage_errors),
-        cmocka_unit_test(test_help),
+        cmocka_unit_test(test_values),         cmocka_unit_test(test_old_spelling),
+        cmocka_unit_test(test_usage_errors),   cmocka_unit_test(test_help),
         cmocka_unit_test(test_time_selection),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -18,7 +18,7 @@
 #include "solver/pcisph.h"
 #include "solver/pcs_snapshot.h"
 
-#define R0 0.02
+#define R0   0.02
 #define RHO0 1000.0
 
 typedef struct scene {
@@ -132,7 +132,10 @@ static void test_collision(void **state)
     pcs_compute_density(&w.s); /* builds the lists */
     size_t i = 0;
     for (size_t k = 0; k < w.f.n; k++)
-        if (w.f.z[k] < R0 && far_from_side_walls(w.f.x[k], w.f.y[k])) { i = k; break; }
+        if (w.f.z[k] < R0 && far_from_side_walls(w.f.x[k], w.f.y[k])) {
+            i = k;
+            break;
+        }
     w.f.z[i] -= 0.3 * R0;
     w.f.vx[i] = 1.0;
     w.f.vz[i] = -2.0;

@@ -43,10 +43,10 @@
 #include "io/time_dir.h"
 #include "io/vtk_reader.h"
 
-#define OUT "tests/output/boundaryStudy"
-#define BASE "cases/boundaryComparison"
-#define R0 "0.05"      /* coarse: 12 x 12 x 20 particles */
-#define END_TIME "0.6" /* the front hits the far walls at about 0.3 s */
+#define OUT       "tests/output/boundaryStudy"
+#define BASE      "cases/boundaryComparison"
+#define R0        "0.05" /* coarse: 12 x 12 x 20 particles */
+#define END_TIME  "0.6"  /* the front hits the far walls at about 0.3 s */
 #define COMMON_DT "0.004"
 
 static const char *const methods[] = {"ihmsen2010", "becker2009", "harada2007"};
@@ -159,8 +159,8 @@ static void test_methods_keep_particles_in_tank(void **state)
                     break;
                 }
             }
-        printf("  %-11s %zu particles, %zu outside the tank at t = %s s (deltaT " COMMON_DT
-               " s)\n", methods[m], last.npoints, outside, l.name[l.n - 1]);
+        printf("  %-11s %zu particles, %zu outside the tank at t = %s s (deltaT " COMMON_DT " s)\n",
+               methods[m], last.npoints, outside, l.name[l.n - 1]);
         assert_int_equal(outside, 0);
         vtkr_free(&first);
         vtkr_free(&last);
@@ -213,7 +213,7 @@ static void test_volume_compression_alike(void **state)
     }
     assert_true(vol[1] > 2.0 * own[1]); /* becker2009: blind to the wall */
     assert_true(vol[1] > vol[0]);
-    assert_true(vol[2] >= own[2]);      /* harada2007's table holds a share of the wall */
+    assert_true(vol[2] >= own[2]); /* harada2007's table holds a share of the wall */
 }
 
 /* A "key value" line of the last output. */
@@ -271,7 +271,8 @@ static int csv_field(const char *csv, const char *method, int col, char *out, si
 static void test_stable_time_step_ratio(void **state)
 {
     (void)state;
-    const char *dir = OUT "/search", *csv = OUT "/search/postProcessing/stableTimeStep/stableTimeStep.csv";
+    const char *dir = OUT "/search",
+               *csv = OUT "/search/postProcessing/stableTimeStep/stableTimeStep.csv";
     double dt[2];
     make_case(dir, "ihmsen2010", COMMON_DT, END_TIME);
     int rc = run("timeout 600 %s/stableTimeStep -case %s -method ihmsen2010,becker2009 "
@@ -286,7 +287,8 @@ static void test_stable_time_step_ratio(void **state)
             fail_msg("stableTimeStep (exit %d) gave no row for %s:\n%s", rc, methods[m], output);
         if (!strcmp(status, "unavailable"))
             fail_msg("boundary method %s is not available in this solver yet (see "
-                     "%s/postProcessing/stableTimeStep/trials.csv)", methods[m], dir);
+                     "%s/postProcessing/stableTimeStep/trials.csv)",
+                     methods[m], dir);
         below[m] = !strcmp(status, "belowDeltaTMin");
         if (!csv_field(csv, methods[m], 1, value, sizeof value)) fail_msg("no deltaT");
         dt[m] = strtod(value, NULL);
@@ -301,7 +303,8 @@ static void test_stable_time_step_ratio(void **state)
                dt[0], dt_min, dt[0] / dt_min);
     else
         printf("  largest stable deltaT: ihmsen2010 %.4g s, becker2009 %.4g s: ratio %.2f "
-               "(paper, 23k particles: 0.0045 / 0.0008 = 5.6)\n", dt[0], dt[1], dt[0] / dt[1]);
+               "(paper, 23k particles: 0.0045 / 0.0008 = 5.6)\n",
+               dt[0], dt[1], dt[0] / dt[1]);
     const double ratio_low = dt[0] / (below[1] ? dt_min : dt[1]);
     if (!(ratio_low >= 2.0))
         fail_msg("dt(ihmsen2010) / dt(becker2009) %s %.2f, below 2 (the issue's floor; paper 5.6)",

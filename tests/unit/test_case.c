@@ -60,7 +60,7 @@ static void test_etc_defaults_are_compiled_defaults(void **state)
     case_read(&b, "tests/output/case_etc");
     assert_memory_equal(&a.ctl, &b.ctl, sizeof a.ctl);
     assert_memory_equal(&a.prm, &b.prm, sizeof a.prm); /* every parameter, restitution too */
-    assert_int_equal(a.effects.n, b.effects.n);         /* the same effects, in order */
+    assert_int_equal(a.effects.n, b.effects.n);        /* the same effects, in order */
     for (size_t k = 0; k < a.effects.n; k++)
         assert_ptr_equal(a.effects.e[k].type, b.effects.e[k].type);
     assert_int_equal(b.nshapes, 3);
@@ -69,36 +69,43 @@ static void test_etc_defaults_are_compiled_defaults(void **state)
 }
 
 typedef struct bad_input {
-    const char *file;     /* file to change in the minimal case */
-    const char *append;   /* text appended to it (or NULL) */
-    const char *replace;  /* whole new content (or NULL) */
-    const char *expect1;  /* substrings the error must contain */
+    const char *file;    /* file to change in the minimal case */
+    const char *append;  /* text appended to it (or NULL) */
+    const char *replace; /* whole new content (or NULL) */
+    const char *expect1; /* substrings the error must contain */
     const char *expect2;
 } bad_input;
 
 static const bad_input bad_inputs[] = {
-    {"constant/fluidProperties", NULL, "particleSpacing 0.02;\nfluidRegions { a { type box; min (0 0 0); max (1 1 1); } }\n",
+    {"constant/fluidProperties", NULL,
+     "particleSpacing 0.02;\nfluidRegions { a { type box; min (0 0 0); max (1 1 1); } }\n",
      "constant/fluidProperties", "'rho0'"},
-    {"constant/fluidProperties", "particleSpacing -0.01;\n", NULL, "fluidProperties:4", "particleSpacing"},
-    {"constant/fluidProperties", "particleSpacing 0;\n", NULL, "fluidProperties:4", "particleSpacing"},
+    {"constant/fluidProperties", "particleSpacing -0.01;\n", NULL, "fluidProperties:4",
+     "particleSpacing"},
+    {"constant/fluidProperties", "particleSpacing 0;\n", NULL, "fluidProperties:4",
+     "particleSpacing"},
     {"constant/fluidProperties", "eta nan;\n", NULL, "fluidProperties:4", "eta"},
     {"constant/fluidProperties", "eta 1e999;\n", NULL, "fluidProperties:4", "eta"},
     {"constant/fluidProperties", "gravity (0 0);\n", NULL, "fluidProperties:4", "gravity"},
     {"constant/fluidProperties", "maxIterations 2;\n", NULL, "fluidProperties:4", "maxIterations"},
     {"constant/fluidProperties", "rho0 1000\nrho0 2;\n", NULL, "fluidProperties:4", "rho0"},
     {"constant/fluidProperties", NULL,
-     "rho0 1000;\nparticleSpacing 0.02;\nfluidRegions { a { type box; min (5 5 5); max (6 6 6); } }\n",
+     "rho0 1000;\nparticleSpacing 0.02;\nfluidRegions { a { type box; min (5 5 5); max (6 6 6); } "
+     "}\n",
      "fluidProperties:3: fluid region 'a' lies outside the container ('tank')", "beyond the walls"},
     {"constant/fluidProperties", NULL, "rho0 1000;\nparticleSpacing 0.02;\nfluidRegions { }\n",
      "fluidProperties", "fluidRegions"},
     {"constant/fluidProperties", NULL,
-     "rho0 1000;\nparticleSpacing 0.02;\nfluidRegions { a { type cone; min (0 0 0); max (1 1 1); } }\n",
+     "rho0 1000;\nparticleSpacing 0.02;\nfluidRegions { a { type cone; min (0 0 0); max (1 1 1); } "
+     "}\n",
      "fluidProperties:3", "'cone'"},
     {"constant/boundaryProperties", "method magic;\n", NULL, "boundaryProperties:2", "magic"},
     {"constant/boundaryProperties", "epsilon 2;\n", NULL, "boundaryProperties:2", "epsilon"},
-    {"constant/boundaryProperties", "geometry { t { type container; min (0 0 0); max (1 -1 1); } }\n", NULL,
+    {"constant/boundaryProperties",
+     "geometry { t { type container; min (0 0 0); max (1 -1 1); } }\n", NULL,
      "boundaryProperties:2", "max"},
-    {"constant/boundaryProperties", "geometry { t { type container; min (0 0 0); max (1 1 1); open (top); } }\n", NULL,
+    {"constant/boundaryProperties",
+     "geometry { t { type container; min (0 0 0); max (1 1 1); open (top); } }\n", NULL,
      "boundaryProperties:2", "top"},
     {"system/controlDict", "endTime -1;\n", NULL, "controlDict:3", "endTime"},
     {"system/controlDict", "writeFormat xml;\n", NULL, "controlDict:3", "xml"},
@@ -107,34 +114,44 @@ static const bad_input bad_inputs[] = {
     {"system/timeStepDict", NULL, "mode constant;\n", "timeStepDict", "'deltaT'"},
     {"system/timeStepDict", "deltaT -1;\n", NULL, "timeStepDict:2", "deltaT"},
     {"system/timeStepDict", "deltaT 0.001 /* unterminated\n", NULL, "timeStepDict:2", "comment"},
-    {"system/timeStepDict", "controller fastest;\n", NULL, "timeStepDict:2", "'fastest' is not one of: ihmsen2010 cost"},
-    {"system/timeStepDict", NULL, "mode adaptive;\ncontroller cost;\ncostMaxDensity 12;\n", "timeStepDict:3",
-     "costMaxDensity"},
-    {"constant/boundaryProperties", "geometry { t { type container; min (0 0 0) max (1 1 1); } }\n", NULL,
-     "boundaryProperties:2", "min"},
+    {"system/timeStepDict", "controller fastest;\n", NULL, "timeStepDict:2",
+     "'fastest' is not one of: ihmsen2010 cost"},
+    {"system/timeStepDict", NULL, "mode adaptive;\ncontroller cost;\ncostMaxDensity 12;\n",
+     "timeStepDict:3", "costMaxDensity"},
+    {"constant/boundaryProperties", "geometry { t { type container; min (0 0 0) max (1 1 1); } }\n",
+     NULL, "boundaryProperties:2", "min"},
     {"constant/fluidProperties", "#include \"nowhere\"\n", NULL, "fluidProperties:4", "nowhere"},
-    {"constant/fluidProperties", "x $undefinedVariable;\n", NULL, "fluidProperties:4", "undefinedVariable"},
+    {"constant/fluidProperties", "x $undefinedVariable;\n", NULL, "fluidProperties:4",
+     "undefinedVariable"},
     /* issue 13, item 9: a region reaching out of the tank (z to 1.2 in a
      * 0.8 m tank) is refused, naming file, line and region */
     {"constant/fluidProperties", NULL,
-     "rho0 1000;\nparticleSpacing 0.02;\nfluidRegions { a { type box; min (0 0 0); max (0.4 0.6 1.2); } }\n",
-     "fluidProperties:3: fluid region 'a' reaches outside the container ('tank')", "beyond the walls"},
+     "rho0 1000;\nparticleSpacing 0.02;\nfluidRegions { a { type box; min (0 0 0); max (0.4 0.6 "
+     "1.2); } }\n",
+     "fluidProperties:3: fluid region 'a' reaches outside the container ('tank')",
+     "beyond the walls"},
     {"constant/fluidProperties", NULL,
-     "rho0 1000;\nparticleSpacing 0.02;\nfluidRegions { b { type sphere; centre (1.5 0.3 0.4); radius 0.2; } }\n",
+     "rho0 1000;\nparticleSpacing 0.02;\nfluidRegions { b { type sphere; centre (1.5 0.3 0.4); "
+     "radius 0.2; } }\n",
      "fluidProperties:3: fluid region 'b' reaches outside", "'tank'"},
     /* item 10: an emitter outside the tank, or inside a solid */
     {"constant/fluidProperties",
-     "emitters { jet { type disc; centre (2 0.3 0.5); direction (0 0 -1); radius 0.05; speed 1; } }\n",
-     NULL, "fluidProperties:4: emitter 'jet' opens outside the container geometry 'tank'", "beyond the walls"},
+     "emitters { jet { type disc; centre (2 0.3 0.5); direction (0 0 -1); radius 0.05; speed 1; } "
+     "}\n",
+     NULL, "fluidProperties:4: emitter 'jet' opens outside the container geometry 'tank'",
+     "beyond the walls"},
     /* siblings: regions over one another; an emitter pointing out of the
      * tank; an emitter that ends before it starts */
     {"constant/fluidProperties", NULL,
-     "rho0 1000;\nparticleSpacing 0.02;\nfluidRegions\n{\n    a { type box; min (0 0 0); max (0.4 0.6 0.4); }\n"
+     "rho0 1000;\nparticleSpacing 0.02;\nfluidRegions\n{\n    a { type box; min (0 0 0); max (0.4 "
+     "0.6 0.4); }\n"
      "    b { type sphere; centre (0.2 0.3 0.4); radius 0.1; }\n}\n",
      "fluidProperties:6: fluid region 'b' overlaps fluid region 'a'", "double the density"},
     {"constant/fluidProperties",
-     "emitters { jet { type disc; centre (0.8 0.3 0.01); direction (0 0 -1); radius 0.05; speed 1; } }\n",
-     NULL, "fluidProperties:4: emitter 'jet' points out of the container geometry 'tank'", "downstream"},
+     "emitters { jet { type disc; centre (0.8 0.3 0.01); direction (0 0 -1); radius 0.05; speed 1; "
+     "} }\n",
+     NULL, "fluidProperties:4: emitter 'jet' points out of the container geometry 'tank'",
+     "downstream"},
     {"constant/fluidProperties",
      "emitters { jet { type disc; centre (0.8 0.3 0.5); direction (0 0 -1); radius 0.05; speed 1; "
      "startTime 2; endTime 1; } }\n",
@@ -158,8 +175,9 @@ static void test_bad_input_table(void **state)
         assert_non_null(f);
         fputs(b->replace ? b->replace : b->append, f);
         fclose(f);
-        snprintf(cmd, sizeof cmd, b->replace ? "cp tests/output/tmp_replace %s/%s"
-                                             : "cat tests/output/tmp_append >> %s/%s",
+        snprintf(cmd, sizeof cmd,
+                 b->replace ? "cp tests/output/tmp_replace %s/%s"
+                            : "cat tests/output/tmp_append >> %s/%s",
                  dir, b->file);
         sh(cmd);
         snprintf(cmd, sizeof cmd, "%s/pcisph -case %s -quiet > %s/out.txt 2> %s/err.txt", bin_dir(),
@@ -171,7 +189,8 @@ static void test_bad_input_table(void **state)
         size_t n = fread(msg, 1, sizeof msg - 1, f);
         msg[n] = 0;
         fclose(f);
-        if (rc == 0 || !strstr(msg, b->expect1) || !strstr(msg, b->expect2) || strstr(msg, "Sanitizer"))
+        if (rc == 0 || !strstr(msg, b->expect1) || !strstr(msg, b->expect2) ||
+            strstr(msg, "Sanitizer"))
             fail_msg("bad input %zu (%s += %s): exit %d, message: %s", k, b->file,
                      b->replace ? b->replace : b->append, rc, msg);
         snprintf(cmd, sizeof cmd, "test ! -e %s/0 && test ! -e %s/fluid.pvd", dir, dir);
@@ -247,24 +266,26 @@ typedef struct warned_input {
 static const warned_input warned_inputs[] = {
     {"eta 1; ... eta 5; (a key set twice)",
      "printf 'eta 1;\nminIterations 3;\neta 5;\n' >> constant/fluidProperties",
-     "fluidProperties:6: keyword 'eta' in dictionary 'fluidProperties' is set twice, at lines 4 and 6",
+     "fluidProperties:6: keyword 'eta' in dictionary 'fluidProperties' is set twice, at lines 4 "
+     "and 6",
      "the value of line 6 is used"},
     {"a fluid region named twice",
      "printf 'fluidRegions { a { type box; min (0 0 0); max (0.2 0.2 0.2); }\n"
      " a { type box; min (1 0 0); max (1.2 0.2 0.2); } }\n' >> constant/fluidProperties",
-     "fluidProperties:5: keyword 'a' in dictionary 'fluidRegions' is set twice, at lines 4 and 5", ""},
+     "fluidProperties:5: keyword 'a' in dictionary 'fluidRegions' is set twice, at lines 4 and 5",
+     ""},
     {"eta 0.5; in system/controlDict", "echo 'eta 0.5;' >> system/controlDict",
      "controlDict:3: unknown keyword 'eta' in dictionary 'controlDict'",
      "belongs in constant/fluidProperties"},
     {"deltaT 0.001; in system/controlDict", "echo 'deltaT 0.001;' >> system/controlDict",
      "controlDict:3: unknown keyword 'deltaT'", "belongs in system/timeStepDict"},
-    {"eta 50;", "echo 'eta 50;' >> constant/fluidProperties", "fluidProperties:4: keyword 'eta': 50 %",
-     "is it a percentage?"},
+    {"eta 50;", "echo 'eta 50;' >> constant/fluidProperties",
+     "fluidProperties:4: keyword 'eta': 50 %", "is it a percentage?"},
     {"gravity (0 0 -981); (cm/s^2)", "echo 'gravity (0 0 -981);' >> constant/fluidProperties",
      "fluidProperties:4: keyword 'gravity'", "wrong units (cm/s^2)?"},
     {"numberOfThreads 4000; on a machine with fewer cores",
-     "echo 'numberOfThreads 4000;' >> system/controlDict", "controlDict:3: keyword 'numberOfThreads'",
-     "cores run slower"},
+     "echo 'numberOfThreads 4000;' >> system/controlDict",
+     "controlDict:3: keyword 'numberOfThreads'", "cores run slower"},
     {"an open obstacle mesh (a box without a lid)",
      "cp ../../data/mesh/bad/open.obj constant/ && echo 'geometry { tank { type container; "
      "min (0 0 0); max (1.6 0.6 0.8); } lidless { type mesh; file \"open.obj\"; scale 0.2; "
@@ -273,7 +294,8 @@ static const warned_input warned_inputs[] = {
     {"an obstacle wholly outside the tank (wrong translate)",
      "echo 'geometry { tank { type container; min (0 0 0); max (1.6 0.6 0.8); } "
      "b { type box; min (5 0 0); max (5.2 0.2 0.2); } }' >> constant/boundaryProperties",
-     "geometry 'b' (5 0 0)-(5.2 0.2 0.2) lies wholly outside the container ('tank')", "wrong translate"},
+     "geometry 'b' (5 0 0)-(5.2 0.2 0.2) lies wholly outside the container ('tank')",
+     "wrong translate"},
     {"an emitter that starts after endTime",
      "echo 'emitters { jet { type disc; centre (1 0.3 0.5); direction (0 0 -1); radius 0.05; "
      "speed 1; startTime 3; } }' >> constant/fluidProperties",
@@ -311,12 +333,13 @@ static void test_override_is_not_a_duplicate(void **state)
 {
     (void)state;
     static char msg[1 << 16];
-    int rc = run_minimal("tests/output/case_override",
-                         "echo 'eta 1; minIterations 3;' > constant/defaults && "
-                         "(echo '#include \"defaults\"'; echo 'eta 2;'; echo 'base { alpha 0.1; }'; "
-                         "echo 'viscosity { $base; alpha 0.2; soundSpeed 20; }') "
-                         ">> constant/fluidProperties",
-                         "sampleBoundary", msg, sizeof msg);
+    int rc =
+        run_minimal("tests/output/case_override",
+                    "echo 'eta 1; minIterations 3;' > constant/defaults && "
+                    "(echo '#include \"defaults\"'; echo 'eta 2;'; echo 'base { alpha 0.1; }'; "
+                    "echo 'viscosity { $base; alpha 0.2; soundSpeed 20; }') "
+                    ">> constant/fluidProperties",
+                    "sampleBoundary", msg, sizeof msg);
     if (rc != 0 || strstr(msg, "twice") || strstr(msg, "Error"))
         fail_msg("exit %d, message: %s", rc, msg);
 }
@@ -333,9 +356,10 @@ static void test_unknown_keys_capped(void **state)
     assert_int_equal(rc, 0);
     size_t lines = count_of(msg, "unknown keyword 'stray");
     if (lines < 1 || lines > 10) fail_msg("%zu unknown-key lines: %.2000s", lines, msg);
-    assert_non_null(strstr(msg, "... and 19990 more unknown keywords in dictionary 'controlDict' "
-                                "(the last at line 20002)"));
-    hostile_record("warned (the run goes on)", "20000 unknown keys in system/controlDict", 
+    assert_non_null(strstr(msg,
+                           "... and 19990 more unknown keywords in dictionary 'controlDict' "
+                           "(the last at line 20002)"));
+    hostile_record("warned (the run goes on)", "20000 unknown keys in system/controlDict",
                    strstr(msg, "Warning: ") ? strstr(msg, "... and") : msg);
 }
 
@@ -348,12 +372,14 @@ static void test_emitter_places(void **state)
     const char *jet = "echo 'emitters { jet { type disc; centre (1.1 0.3 0.5); direction (0 0 -1); "
                       "radius 0.05; speed 1; } }' >> constant/fluidProperties && ";
     char setup[2048];
-    snprintf(setup, sizeof setup,
-             "%s echo 'geometry { tank { type container; min (0 0 0); max (1.6 0.6 0.8); } "
-             "post { type box; min (1 0.2 0); max (1.2 0.4 0.7); } }' >> constant/boundaryProperties",
-             jet);
+    snprintf(
+        setup, sizeof setup,
+        "%s echo 'geometry { tank { type container; min (0 0 0); max (1.6 0.6 0.8); } "
+        "post { type box; min (1 0.2 0); max (1.2 0.4 0.7); } }' >> constant/boundaryProperties",
+        jet);
     int rc = run_minimal("tests/output/case_emitter", setup, "pcisph", msg, sizeof msg);
-    if (rc == 0 || !strstr(msg, "fluidProperties:4: emitter 'jet' opens inside the solid geometry 'post'"))
+    if (rc == 0 ||
+        !strstr(msg, "fluidProperties:4: emitter 'jet' opens inside the solid geometry 'post'"))
         fail_msg("exit %d, message: %s", rc, msg);
     assert_null(strstr(msg, "Progress"));
     hostile_record("constant/fluidProperties", "an emitter inside an obstacle", msg);

@@ -28,10 +28,11 @@ typedef struct facts {
 static int run_case(const char *name, const char *extra)
 {
     char cmd[1024];
-    snprintf(cmd, sizeof cmd,
-             "rm -rf tests/output/%s && mkdir -p tests/output && cp -r tests/cases/%s tests/output/%s"
-             " && %s/pcisph -case tests/output/%s -quiet %s > tests/output/%s/log.pcisph 2>&1",
-             name, name, name, bin_dir(), name, extra ? extra : "", name);
+    snprintf(
+        cmd, sizeof cmd,
+        "rm -rf tests/output/%s && mkdir -p tests/output && cp -r tests/cases/%s tests/output/%s"
+        " && %s/pcisph -case tests/output/%s -quiet %s > tests/output/%s/log.pcisph 2>&1",
+        name, name, name, bin_dir(), name, extra ? extra : "", name);
     return system(cmd);
 }
 
@@ -46,7 +47,8 @@ static record read_record(const char *name, const char *start)
     char path[512], line[1024];
     record r = {0, NULL};
     size_t cap = 0;
-    snprintf(path, sizeof path, "tests/output/%s/postProcessing/timeStep/%s/timeStep.dat", name, start);
+    snprintf(path, sizeof path, "tests/output/%s/postProcessing/timeStep/%s/timeStep.dat", name,
+             start);
     FILE *f = fopen(path, "r");
     if (!f) fail_msg("no record %s", path);
     while (fgets(line, sizeof line, f)) {
@@ -114,7 +116,7 @@ static double record_max(const char *name, int column, double t_from)
         char *s = line;
         for (int k = 0; k < 9; k++) v[k] = strtod(s, &s);
         if (v[0] < t_from) continue;
-        if (!(v[column] <= m) ) m = v[column];
+        if (!(v[column] <= m)) m = v[column];
         rows++;
     }
     fclose(f);
@@ -170,21 +172,26 @@ static void test_dam_break_short(void **state)
 static void test_shock_adaptive(void **state)
 {
     (void)state;
-    assert_int_equal(run_edited("cases/shock", "shock",
-                                "sed -i 's/^r0 .*/r0 0.03;/' constant/fluidProperties && "
-                                "sed -i 's/^endTime .*/endTime 0.7;/; s/^writeInterval .*/writeInterval 0.1;/' "
-                                "system/controlDict"),
-                     0);
+    assert_int_equal(
+        run_edited("cases/shock", "shock",
+                   "sed -i 's/^r0 .*/r0 0.03;/' constant/fluidProperties && "
+                   "sed -i 's/^endTime .*/endTime 0.7;/; s/^writeInterval .*/writeInterval 0.1;/' "
+                   "system/controlDict"),
+        0);
     record r = read_record("shock", "0");
     int shocks = 0;
     for (size_t i = 0; i < r.n; i++) {
         double *row = r.row[i];
         assert_true(isfinite(row[4]) && isfinite(row[5]));
-        if (row[7] != 0.0) { shocks++; continue; }
+        if (row[7] != 0.0) {
+            shocks++;
+            continue;
+        }
         assert_true(row[4] < 10.0); /* rhoErrMax, percent */
         if (i > 0 && r.row[i - 1][7] == 0.0) {
             double q = row[9] / r.row[i - 1][9];
-            assert_true(fabs(q - 1.0) < 1e-12 || fabs(q - 1.002) < 1e-12 || fabs(q - 0.998) < 1e-12);
+            assert_true(fabs(q - 1.0) < 1e-12 || fabs(q - 1.002) < 1e-12 ||
+                        fabs(q - 0.998) < 1e-12);
         }
     }
     print_message("shock: %d shocks in %zu steps\n", shocks, r.n);
@@ -218,22 +225,29 @@ static void test_hydrostatic_adaptive(void **state)
 static void test_restart_bit_identical(void **state)
 {
     (void)state;
-    const char *edit = "sed -i 's/^endTime .*/endTime 0.3;/; s/^writeInterval .*/writeInterval 0.1;/' "
-                       "system/controlDict && printf 'mode adaptive;\\ndeltaT 0;\\n' > system/timeStepDict";
+    const char *edit =
+        "sed -i 's/^endTime .*/endTime 0.3;/; s/^writeInterval .*/writeInterval 0.1;/' "
+        "system/controlDict && printf 'mode adaptive;\\ndeltaT 0;\\n' > system/timeStepDict";
     assert_int_equal(run_edited("tests/cases/damBreakShort", "restartA", edit), 0);
-    assert_int_equal(run_edited("tests/cases/damBreakShort", "restartB",
-                                "sed -i 's/^endTime .*/endTime 0.3;/; s/^writeInterval .*/writeInterval 0.1;/' "
-                                "system/controlDict && printf 'mode adaptive;\\ndeltaT 0;\\n' > "
-                                "system/timeStepDict && sed -i 's/^endTime .*/endTime 0.1;/' system/controlDict"),
-                     0);
+    assert_int_equal(
+        run_edited(
+            "tests/cases/damBreakShort", "restartB",
+            "sed -i 's/^endTime .*/endTime 0.3;/; s/^writeInterval .*/writeInterval 0.1;/' "
+            "system/controlDict && printf 'mode adaptive;\\ndeltaT 0;\\n' > "
+            "system/timeStepDict && sed -i 's/^endTime .*/endTime 0.1;/' system/controlDict"),
+        0);
     char cmd[1024];
-    snprintf(cmd, sizeof cmd,
-             "sed -i 's/^endTime .*/endTime 0.3;/; s/^startFrom .*/startFrom latestTime;/' "
-             "tests/output/restartB/system/controlDict && %s/pcisph -case tests/output/restartB -quiet "
-             "> tests/output/restartB/log.restart 2>&1", bin_dir());
+    snprintf(
+        cmd, sizeof cmd,
+        "sed -i 's/^endTime .*/endTime 0.3;/; s/^startFrom .*/startFrom latestTime;/' "
+        "tests/output/restartB/system/controlDict && %s/pcisph -case tests/output/restartB -quiet "
+        "> tests/output/restartB/log.restart 2>&1",
+        bin_dir());
     assert_int_equal(system(cmd), 0);
-    assert_true(files_equal("tests/output/restartA/0.3/fluid.vtu", "tests/output/restartB/0.3/fluid.vtu"));
-    assert_true(files_equal("tests/output/restartA/0.2/fluid.vtu", "tests/output/restartB/0.2/fluid.vtu"));
+    assert_true(
+        files_equal("tests/output/restartA/0.3/fluid.vtu", "tests/output/restartB/0.3/fluid.vtu"));
+    assert_true(
+        files_equal("tests/output/restartA/0.2/fluid.vtu", "tests/output/restartB/0.2/fluid.vtu"));
     /* the restarted run's record went to a new folder */
     record r = read_record("restartB", "0.1");
     assert_true(r.n > 0 && r.row[0][0] > 0.1);
@@ -244,21 +258,25 @@ static void test_restart_bit_identical(void **state)
 static void test_threads_bit_identical(void **state)
 {
     (void)state;
-    const char *one = "sed -i 's/^endTime .*/endTime 0.1;/; s/^writeInterval .*/writeInterval 0.1;/; "
-                      "s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict";
-    const char *two = "sed -i 's/^endTime .*/endTime 0.1;/; s/^writeInterval .*/writeInterval 0.1;/; "
-                      "s/^numberOfThreads .*/numberOfThreads 2;/' system/controlDict";
+    const char *one =
+        "sed -i 's/^endTime .*/endTime 0.1;/; s/^writeInterval .*/writeInterval 0.1;/; "
+        "s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict";
+    const char *two =
+        "sed -i 's/^endTime .*/endTime 0.1;/; s/^writeInterval .*/writeInterval 0.1;/; "
+        "s/^numberOfThreads .*/numberOfThreads 2;/' system/controlDict";
     assert_int_equal(run_edited("tests/cases/damBreakShort", "threads1", one), 0);
     assert_int_equal(run_edited("tests/cases/damBreakShort", "threads2", two), 0);
-    assert_true(files_equal("tests/output/threads1/0.1/fluid.vtu", "tests/output/threads2/0.1/fluid.vtu"));
-    assert_true(files_equal("tests/output/threads1/0.1/boundary.vtu", "tests/output/threads2/0.1/boundary.vtu"));
+    assert_true(
+        files_equal("tests/output/threads1/0.1/fluid.vtu", "tests/output/threads2/0.1/fluid.vtu"));
+    assert_true(files_equal("tests/output/threads1/0.1/boundary.vtu",
+                            "tests/output/threads2/0.1/boundary.vtu"));
 }
 
 /* The edits that put damBreakShort under the cost controller at eta 0.2 %
  * (3-50 iterations), endTime 0.3 s, writes every 0.1 s. */
-#define COST_EDIT                                                                              \
-    "sed -i 's/^endTime .*/endTime 0.3;/; s/^writeInterval .*/writeInterval 0.1;/' "           \
-    "system/controlDict && printf 'mode adaptive;\\ndeltaT 0;\\ncontroller cost;\\n' > "       \
+#define COST_EDIT                                                                        \
+    "sed -i 's/^endTime .*/endTime 0.3;/; s/^writeInterval .*/writeInterval 0.1;/' "     \
+    "system/controlDict && printf 'mode adaptive;\\ndeltaT 0;\\ncontroller cost;\\n' > " \
     "system/timeStepDict && sed -i 's/^eta .*/eta 0.2;/' constant/fluidProperties"
 
 /* controller cost: every kept step ends with rho_err avg <= eta (the
@@ -278,7 +296,8 @@ static void test_cost_controller(void **state)
         kept++;
         iters += row[2];
         if (row[2] > kmax) kmax = row[2];
-        if (!(row[3] <= 0.2 + 1e-9)) fail_msg("t = %g: rho_err avg %g %% above eta", row[0], row[3]);
+        if (!(row[3] <= 0.2 + 1e-9))
+            fail_msg("t = %g: rho_err avg %g %% above eta", row[0], row[3]);
         if (i > 0 && r.row[i - 1][7] == 0.0 && !(row[9] <= 1.01 * r.row[i - 1][9] * (1 + 1e-12)))
             fail_msg("t = %g: dt grew from %g to %g", row[0], r.row[i - 1][9], row[9]);
     }
@@ -301,7 +320,8 @@ static void test_cost_restart_and_threads(void **state)
     if (access("tests/output/costA/0.3/fluid.vtu", F_OK) != 0)
         assert_int_equal(run_edited("tests/cases/damBreakShort", "costA", COST_EDIT), 0);
     assert_int_equal(run_edited("tests/cases/damBreakShort", "costB",
-                                COST_EDIT " && sed -i 's/^endTime .*/endTime 0.1;/; "
+                                COST_EDIT
+                                " && sed -i 's/^endTime .*/endTime 0.1;/; "
                                 "s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict"),
                      0);
     char cmd[1024];
@@ -311,9 +331,12 @@ static void test_cost_restart_and_threads(void **state)
              "%s/pcisph -case tests/output/costB -quiet > tests/output/costB/log.restart 2>&1",
              bin_dir());
     assert_int_equal(system(cmd), 0);
-    assert_true(files_equal("tests/output/costA/0.1/fluid.vtu", "tests/output/costB/0.1/fluid.vtu"));
-    assert_true(files_equal("tests/output/costA/0.2/fluid.vtu", "tests/output/costB/0.2/fluid.vtu"));
-    assert_true(files_equal("tests/output/costA/0.3/fluid.vtu", "tests/output/costB/0.3/fluid.vtu"));
+    assert_true(
+        files_equal("tests/output/costA/0.1/fluid.vtu", "tests/output/costB/0.1/fluid.vtu"));
+    assert_true(
+        files_equal("tests/output/costA/0.2/fluid.vtu", "tests/output/costB/0.2/fluid.vtu"));
+    assert_true(
+        files_equal("tests/output/costA/0.3/fluid.vtu", "tests/output/costB/0.3/fluid.vtu"));
 }
 
 int main(void)

@@ -20,7 +20,7 @@
 #include "hostile_table.h"
 
 #define VALID "tests/data/dictionary/valid/"
-#define BAD "tests/data/dictionary/bad/"
+#define BAD   "tests/data/dictionary/bad/"
 
 /* ---- helpers --------------------------------------------------------------- */
 
@@ -335,7 +335,7 @@ struct bad_case {
     const char *file;  /* under bad/ */
     const char *where; /* file the error is in, if not `file` */
     int line;
-    const char *part;  /* keyword, directive, ... */
+    const char *part; /* keyword, directive, ... */
 };
 
 static const struct bad_case bad_cases[] = {
@@ -404,12 +404,12 @@ static void test_include_chain_in_message(void **state)
 static void test_var_scopes(void **state)
 {
     static const char *const bad[] = {
-        "a $../x;",         /* no parent of the top level */
-        "x 1; a $:;",       /* nothing after the scope */
+        "a $../x;",   /* no parent of the top level */
+        "x 1; a $:;", /* nothing after the scope */
         "x 1; s { a $../../x; }",
         "x 1; s { y 2; } a $s/x;", /* x is not inside s */
-        "x 1; a $x/y;",     /* x is not a dictionary */
-        "s { y 2; } t { a $y; }", /* y is in s, not an enclosing scope */
+        "x 1; a $x/y;",            /* x is not a dictionary */
+        "s { y 2; } t { a $y; }",  /* y is in s, not an enclosing scope */
     };
     sl_err err = {{0}};
     dict *d;
@@ -537,11 +537,13 @@ static void test_missing_key(void **state)
     int b;
     (void)state;
     assert_int_not_equal(dict_get_scalar(d, "rho", &v, &err), 0);
-    assert_string_equal(err.msg, VALID "fluidProperties: missing required keyword 'rho' in "
-                                       "dictionary 'fluidProperties'");
+    assert_string_equal(err.msg,
+                        VALID "fluidProperties: missing required keyword 'rho' in "
+                              "dictionary 'fluidProperties'");
     assert_int_not_equal(dict_get_bool(dict_sub(d, "solver"), "fast", &b, &err), 0);
-    assert_string_equal(err.msg, VALID "fluidProperties: missing required keyword 'fast' in "
-                                       "dictionary 'solver'");
+    assert_string_equal(err.msg,
+                        VALID "fluidProperties: missing required keyword 'fast' in "
+                              "dictionary 'solver'");
     dict_free(d);
 }
 
@@ -555,8 +557,9 @@ static void test_bad_types(void **state)
     char **words;
     size_t n = 7;
     (void)state;
-    assert_scalar_error(d, "word", VALID "badValues:2:13: keyword 'word': expected a number, "
-                                         "found 'abc'");
+    assert_scalar_error(d, "word",
+                        VALID "badValues:2:13: keyword 'word': expected a number, "
+                              "found 'abc'");
     assert_scalar_error(d, "hexV", "keyword 'hexV': expected a number, found '0x10'");
     assert_scalar_error(d, "twoNum", ":9:1: keyword 'twoNum': expected a number, found '1 2'");
     assert_scalar_error(d, "sub", "keyword 'sub': expected a number, found a dictionary");
@@ -681,12 +684,14 @@ static void test_warn_duplicates(void **state)
     int count = -1;
     (void)state;
     dict *d = dict_parse_string("a 1;\nb 2;\na 3;\ns { x 1;\n x 2; }\nbase { y 1; }\n"
-                                "t { $base; y 2; }\n", "props", &err);
+                                "t { $base; y 2; }\n",
+                                "props", &err);
     assert_non_null(d);
     char *out = capture_stderr(warn_duplicates, d, NULL, &count);
     assert_int_equal(count, 2);
-    assert_has(out, "props:3: keyword 'a' in dictionary 'props' is set twice, at lines 1 and 3: "
-                    "the value of line 3 is used");
+    assert_has(out,
+               "props:3: keyword 'a' in dictionary 'props' is set twice, at lines 1 and 3: "
+               "the value of line 3 is used");
     assert_has(out, "props:5: keyword 'x' in dictionary 's' is set twice, at lines 4 and 5");
     assert_null(strstr(out, "'y'"));
     free(out);
@@ -717,7 +722,8 @@ static void test_warn_unknown_capped(void **state)
     char text[4096] = "";
     int count = -1;
     (void)state;
-    for (int i = 0; i < 25; i++) snprintf(text + strlen(text), sizeof text - strlen(text), "k%d 1;\n", i);
+    for (int i = 0; i < 25; i++)
+        snprintf(text + strlen(text), sizeof text - strlen(text), "k%d 1;\n", i);
     strcat(text, "eta 1;\n");
     dict *d = dict_parse_string(text, "controlDict", &err);
     static const char *const valid[] = {"endTime", NULL};
@@ -729,8 +735,9 @@ static void test_warn_unknown_capped(void **state)
     size_t lines = 0;
     for (const char *c = out; *c; c++) lines += *c == '\n';
     assert_int_equal(lines, DICT_WARN_MAX + 1);
-    assert_has(out, "controlDict: ... and 16 more unknown keywords in dictionary 'controlDict' (the "
-                    "last at line 26)");
+    assert_has(out,
+               "controlDict: ... and 16 more unknown keywords in dictionary 'controlDict' (the "
+               "last at line 26)");
     free(out);
     /* the misplaced key, among the first ten */
     dict_free(d);
@@ -738,8 +745,9 @@ static void test_warn_unknown_capped(void **state)
     dict_warn_set_homes(homes);
     out = capture_stderr(dict_warn_unknown, d, valid, &count);
     dict_warn_set_homes(NULL);
-    assert_has(out, "controlDict:1: unknown keyword 'eta' in dictionary 'controlDict': it belongs "
-                    "in constant/fluidProperties (ignored here)");
+    assert_has(out,
+               "controlDict:1: unknown keyword 'eta' in dictionary 'controlDict': it belongs "
+               "in constant/fluidProperties (ignored here)");
     free(out);
     dict_free(d);
 }

@@ -41,8 +41,8 @@ static double top_layer(const char *name, const char *key)
     return v;
 }
 
-static const char *short_tank =
-    "sed -i 's/^endTime .*/endTime 0.05;/; s/^writeInterval .*/writeInterval 0.05;/' system/controlDict";
+static const char *short_tank = "sed -i 's/^endTime .*/endTime 0.05;/; s/^writeInterval "
+                                ".*/writeInterval 0.05;/' system/controlDict";
 
 static void test_unnamed_effect_is_never_called(void **state)
 {
@@ -59,7 +59,8 @@ static void test_named_effect_changes_result(void **state)
     (void)state;
     char edit[1024];
     snprintf(edit, sizeof edit,
-             "%s && printf 'surfaceTension { kappa 0.005; }\\n' >> constant/fluidProperties", short_tank);
+             "%s && printf 'surfaceTension { kappa 0.005; }\\n' >> constant/fluidProperties",
+             short_tank);
     assert_int_equal(run_edited("tests/cases/hydrostaticTank", "effectsTension", edit), 0);
     assert_int_equal(effect_calls("effectsTension", "surfaceTension"), 25);
     /* cohesion pulls the free surface into the fluid: the top layer sits lower */
@@ -69,7 +70,8 @@ static void test_named_effect_changes_result(void **state)
     assert_true(ztop_plain > 0.3 && ztop_plain < 0.45);
     assert_true(ztop_tension < ztop_plain - 5e-6); /* 1.9e-5 m lower when written */
     snprintf(edit, sizeof edit,
-             "%s && printf 'surfaceDensityCorrection { }\\n' >> constant/fluidProperties", short_tank);
+             "%s && printf 'surfaceDensityCorrection { }\\n' >> constant/fluidProperties",
+             short_tank);
     assert_int_equal(run_edited("tests/cases/hydrostaticTank", "effectsBK", edit), 0);
     assert_true(effect_calls("effectsBK", "surfaceDensityCorrection") >= 25 * 3);
     /* the correction restores the deficient density of the free surface */
@@ -85,11 +87,12 @@ static void test_named_effect_changes_result(void **state)
 static void test_droplet_rounds(void **state)
 {
     (void)state;
-    assert_int_equal(run_edited("tutorials/droplet", "droplet",
-                                "sed -i 's/min (-0.1 -0.1 -0.1); max (0.1 0.1 0.1)/min (-0.05 -0.05 -0.05); "
-                                "max (0.05 0.05 0.05)/' constant/fluidProperties && "
-                                "sed -i 's/^endTime .*/endTime 0.2;/' system/controlDict"),
-                     0);
+    assert_int_equal(
+        run_edited("tutorials/droplet", "droplet",
+                   "sed -i 's/min (-0.1 -0.1 -0.1); max (0.1 0.1 0.1)/min (-0.05 -0.05 -0.05); "
+                   "max (0.05 0.05 0.05)/' constant/fluidProperties && "
+                   "sed -i 's/^endTime .*/endTime 0.2;/' system/controlDict"),
+        0);
     FILE *p = popen("/usr/bin/python3 tests/cases/sphericity.py tests/output/droplet", "r");
     assert_non_null(p);
     double t, s, spread, s0 = -1, s_end = -1;

@@ -114,16 +114,18 @@ static const char *slurp(const char *path)
  * (shell commands run inside it). */
 static void make_case(const char *name, const char *edit)
 {
-    assert_int_equal(sh("rm -rf tests/output/%s && mkdir -p tests/output && "
-                        "cp -r tests/cases/hydrostaticTank tests/output/%s && cd tests/output/%s && %s",
-                        name, name, name, edit ? edit : "true"),
-                     0);
+    assert_int_equal(
+        sh("rm -rf tests/output/%s && mkdir -p tests/output && "
+           "cp -r tests/cases/hydrostaticTank tests/output/%s && cd tests/output/%s && %s",
+           name, name, name, edit ? edit : "true"),
+        0);
 }
 
 static void set_key(const char *name, const char *file, const char *key, const char *value)
 {
     assert_int_equal(sh("cd tests/output/%s && (grep -v '^%s ' %s; echo '%s %s;') > %s.new && "
-                        "mv %s.new %s", name, key, file, key, value, file, file, file),
+                        "mv %s.new %s",
+                        name, key, file, key, value, file, file, file),
                      0);
 }
 
@@ -194,7 +196,8 @@ static void wait_delivered(pid_t pid, int sig)
         unsigned long long pending = 0, mask;
         if (!f) return;
         while (fgets(line, sizeof line, f))
-            if ((sscanf(line, "SigPnd: %llx", &mask) == 1 || sscanf(line, "ShdPnd: %llx", &mask) == 1))
+            if ((sscanf(line, "SigPnd: %llx", &mask) == 1 ||
+                 sscanf(line, "ShdPnd: %llx", &mask) == 1))
                 pending |= mask;
         fclose(f);
         if (!(pending & (1ull << (sig - 1)))) return;
@@ -264,7 +267,8 @@ static void restart_to(const char *name, double end)
     set_key(name, "system/controlDict", "startFrom", "latestTime");
     set_key(name, "system/controlDict", "endTime", value);
     assert_int_equal(sh("timeout -s KILL 600 %s/pcisph -case tests/output/%s -quiet > "
-                        "tests/output/%s.restart.log 2>&1", bin_dir(), name, name),
+                        "tests/output/%s.restart.log 2>&1",
+                        bin_dir(), name, name),
                      0);
     snprintf(dir, sizeof dir, "tests/output/%s.restart.log", name);
     assert_non_null(strstr(slurp(dir), "Restarting from"));
@@ -275,7 +279,8 @@ static void restart_to(const char *name, double end)
     if (o.pvd_unlisted)
         fail_msg("after the restart %s/fluid.pvd lists %d of the %d time directories (the one "
                  "restarted from is left out: libsrc/case/case_output.c out_init keeps only "
-                 "times before the start time)", dir, o.pvd_n, o.ntimes);
+                 "times before the start time)",
+                 dir, o.pvd_n, o.ntimes);
 }
 
 /* ---- signals ---- */
@@ -354,7 +359,8 @@ static void kill_midway(const char *name, int twice)
          * tells nothing about the second signal, so it is run again. */
         if (!(twice && WIFEXITED(status))) break;
         print_message("attempt %d: the run ended on the first SIGINT (status %#x) before the "
-                      "second was sent: again\n", attempt, status);
+                      "second was sent: again\n",
+                      attempt, status);
     }
     print_message("%s: ended after %.3f s, status %#x\n", twice ? "two SIGINTs" : "SIGKILL", took,
                   status);
@@ -366,7 +372,9 @@ static void kill_midway(const char *name, int twice)
     snprintf(dir, sizeof dir, "tests/output/%s", name);
     check_intact(dir, 1, &o); /* killed between a directory and its pvd entry */
     assert_int_equal(sh("cd tests/output/%s && mkdir -p 4.5.tmp.99999 && "
-                        "echo garbage > 4.5.tmp.99999/fluid.vtu", name), 0);
+                        "echo garbage > 4.5.tmp.99999/fluid.vtu",
+                        name),
+                     0);
     restart_to(name, o.last + 0.02);
 }
 
@@ -417,7 +425,7 @@ static void write_on_request(const char *name, int by_file)
     assert_true(t_req > 0 && t_req < 1);
     assert_int_equal(o.ntimes, 3);        /* 0, the request, 1 */
     assert_true(fabs(o.last - 1) < 1e-9); /* and it went on to the end */
-    assert_false(exists(path));             /* the request file is used up */
+    assert_false(exists(path));           /* the request file is used up */
 }
 
 static void test_sigusr1_writes_and_goes_on(void **state)
@@ -466,8 +474,8 @@ static void test_disk_full(void **state)
     make_case("faults_size", NULL);
     set_key("faults_size", "system/controlDict", "endTime", "0.01");
     set_key("faults_size", "system/controlDict", "writeInterval", "0.01");
-    assert_int_equal(sh("%s/pcisph -case tests/output/faults_size -quiet > /dev/null 2>&1",
-                        bin_dir()), 0);
+    assert_int_equal(
+        sh("%s/pcisph -case tests/output/faults_size -quiet > /dev/null 2>&1", bin_dir()), 0);
     long one = du_bytes("faults_size", "0.01"), base = du_bytes("faults_size", ".");
     long size = (base + 2 * one + 4095) / 4096 * 4096;
     make_case("faults_full_src", NULL);
@@ -496,7 +504,8 @@ static void test_disk_full(void **state)
     assert_false(o.tmp_left); /* no half-written file or folder left on the full disk */
     /* the earlier output is good to restart from, once there is room */
     assert_int_equal(sh("rm -rf tests/output/faults_full && "
-                        "mv tests/output/faults_full_result tests/output/faults_full"), 0);
+                        "mv tests/output/faults_full_result tests/output/faults_full"),
+                     0);
     restart_to("faults_full", o.last + 0.02);
 }
 
@@ -513,13 +522,16 @@ static void test_read_only_case(void **state)
     make_case(name, NULL);
     set_key(name, "system/controlDict", "endTime", "0.04");
     set_key(name, "system/controlDict", "writeInterval", "0.02");
-    assert_int_equal(sh("%s/pcisph -case tests/output/%s -quiet > /dev/null 2>&1", bin_dir(), name), 0);
+    assert_int_equal(sh("%s/pcisph -case tests/output/%s -quiet > /dev/null 2>&1", bin_dir(), name),
+                     0);
     set_key(name, "system/controlDict", "startFrom", "latestTime");
     set_key(name, "system/controlDict", "endTime", "0.1");
-    assert_int_equal(sh("cd tests/output && find %s -type f | sort | xargs md5sum > %s.before", name, name), 0);
+    assert_int_equal(
+        sh("cd tests/output && find %s -type f | sort | xargs md5sum > %s.before", name, name), 0);
     int rc = sh("d=tests/output/%s && unshare -m sh -c \"mount --bind $d $d && "
                 "mount -o remount,bind,ro $d && { timeout -s KILL 600 %s/pcisph -case $d -quiet "
-                "> $d.log 2>&1; echo \\$? > $d.rc; }\"", name, bin_dir());
+                "> $d.log 2>&1; echo \\$? > $d.rc; }\"",
+                name, bin_dir());
     assert_int_equal(rc, 0);
     char path[256];
     snprintf(path, sizeof path, "tests/output/%s.log", name);
@@ -531,8 +543,10 @@ static void test_read_only_case(void **state)
     assert_true(solver_rc != 0 && solver_rc != 137);
     assert_non_null(strstr(text, "Error:"));
     assert_non_null(strstr(text, "Read-only file system"));
-    assert_int_equal(sh("cd tests/output && find %s -type f | sort | xargs md5sum | cmp -s - %s.before",
-                        name, name), 0);
+    assert_int_equal(
+        sh("cd tests/output && find %s -type f | sort | xargs md5sum | cmp -s - %s.before", name,
+           name),
+        0);
     check_intact("tests/output/faults_ro", 0, NULL);
 }
 
@@ -543,7 +557,7 @@ typedef struct hostile {
     const char *edit;    /* shell commands run in the minimal case */
     const char *expect1; /* substrings the error must contain */
     const char *expect2;
-    int hungry;          /* might take unbounded memory: run only with a memory limit */
+    int hungry; /* might take unbounded memory: run only with a memory limit */
 } hostile;
 
 /* Beyond the 25 bad inputs of test_case.c.  Where the solver should stop
@@ -578,7 +592,8 @@ static const hostile hostile_inputs[] = {
      "particleSpacing", "too many", 0},
     {"spacing 25 times too small", "echo 'particleSpacing 0.0008;' >> constant/fluidProperties",
      "particleSpacing", "too many", 1},
-    {"huge density", "echo 'rho0 1e308;' >> constant/fluidProperties", "fluidProperties:4", "rho0", 0},
+    {"huge density", "echo 'rho0 1e308;' >> constant/fluidProperties", "fluidProperties:4", "rho0",
+     0},
     {"NaN gravity", "echo 'gravity (0 0 nan);' >> constant/fluidProperties", "fluidProperties:4",
      "gravity", 0},
     {"infinite velocity",
@@ -667,10 +682,11 @@ static void test_hostile_input(void **state)
         char path[512];
         snprintf(path, sizeof path, "%s.err", dir);
         const char *msg = slurp(path);
-        int wrote = sh("test -e %s/0 -o -e %s/fluid.pvd -o -e %s/postProcessing", dir, dir, dir) == 0;
+        int wrote =
+            sh("test -e %s/0 -o -e %s/fluid.pvd -o -e %s/postProcessing", dir, dir, dir) == 0;
         int ok = rc > 0 && rc != 137 && strstr(msg, "Error:") && strstr(msg, h->expect1) &&
-                 strstr(msg, h->expect2) && !strstr(msg, "Sanitizer") && !strstr(msg, "runtime error") &&
-                 !wrote;
+            strstr(msg, h->expect2) && !strstr(msg, "Sanitizer") && !strstr(msg, "runtime error") &&
+            !wrote;
         if (!ok) {
             failures++;
             print_error("hostile input '%s': exit %d after %.1f s%s; wanted an error naming '%s' "
@@ -703,8 +719,10 @@ static void test_second_solver_refused(void **state)
     pid_t pid = spawn(name);
     assert_true(wait_file(pid, name, "0/fluid.vtu", 300));
     double t0 = now();
-    int rc = sh("timeout -s KILL 60 %s/pcisph -case tests/output/%s -quiet > tests/output/%s.second "
-                "2>&1", bin_dir(), name, name);
+    int rc =
+        sh("timeout -s KILL 60 %s/pcisph -case tests/output/%s -quiet > tests/output/%s.second "
+           "2>&1",
+           bin_dir(), name, name);
     double took = now() - t0;
     char path[256], want[64];
     snprintf(path, sizeof path, "tests/output/%s.second", name);
@@ -722,7 +740,9 @@ static void test_second_solver_refused(void **state)
     wait_end(pid, 60);
     set_key(name, "system/controlDict", "endTime", "0.04");
     assert_int_equal(sh("timeout -s KILL 300 %s/pcisph -case tests/output/%s -quiet > /dev/null "
-                        "2>&1", bin_dir(), name), 0);
+                        "2>&1",
+                        bin_dir(), name),
+                     0);
 }
 
 /* Rows of a record file (lines not starting with '#'). */
@@ -754,9 +774,11 @@ static void test_record_flushed(void **state)
     const char *name = "faults_flush";
     char edit[512];
     int iterations = sanitized() ? 30 : 300; /* the sanitizers slow every step anyway */
-    snprintf(edit, sizeof edit, "sed -i 's/^minIterations .*//; s/^maxIterations .*//' "
+    snprintf(edit, sizeof edit,
+             "sed -i 's/^minIterations .*//; s/^maxIterations .*//' "
              "constant/fluidProperties && printf 'minIterations %d;\\nmaxIterations %d;\\n' >> "
-             "constant/fluidProperties", iterations, iterations);
+             "constant/fluidProperties",
+             iterations, iterations);
     make_case(name, edit);
     set_key(name, "system/controlDict", "numberOfThreads", "1");
     set_key(name, "system/controlDict", "endTime", "5");
@@ -773,7 +795,8 @@ static void test_record_flushed(void **state)
     wait_end(pid, 60);
     int after = record_rows(rec);
     print_message("after %d logged steps (2.5 s after the second): %d rows on disk, %d after "
-                  "kill -9\n", steps, rows, after);
+                  "kill -9\n",
+                  steps, rows, after);
     assert_true(steps >= 2);
     assert_true(rows >= 1 && after >= rows);
     assert_true(rows >= steps / 3); /* at most ~1 s of 2.5 s missing */
@@ -792,9 +815,11 @@ static void test_stale_temporaries_removed(void **state)
     set_key(name, "system/controlDict", "writeInterval", "0.01");
     assert_int_equal(sh("cd tests/output/%s && mkdir -p 0.04.tmp.999999999/uniform %s && "
                         "echo x > 0.04.tmp.999999999/fluid.vtu && echo y > fluid.pvd.tmp.999999998",
-                        name, live), 0);
+                        name, live),
+                     0);
     assert_int_equal(sh("%s/pcisph -case tests/output/%s -quiet > tests/output/%s.log 2>&1",
-                        bin_dir(), name, name), 0);
+                        bin_dir(), name, name),
+                     0);
     char log[256];
     snprintf(log, sizeof log, "tests/output/%s.log", name);
     const char *text = slurp(log);
@@ -802,7 +827,9 @@ static void test_stale_temporaries_removed(void **state)
     assert_non_null(strstr(text, "0.04.tmp.999999999"));
     assert_non_null(strstr(text, "fluid.pvd.tmp.999999998"));
     assert_int_equal(sh("cd tests/output/%s && test ! -e 0.04.tmp.999999999 && "
-                        "test ! -e fluid.pvd.tmp.999999998 && test -d %s", name, live), 0);
+                        "test ! -e fluid.pvd.tmp.999999998 && test -d %s",
+                        name, live),
+                     0);
 }
 
 /* Item 12: a restart file with 100 bytes flipped is "damaged", and the
@@ -815,7 +842,8 @@ static void test_damaged_restart(void **state)
     make_case(name, NULL);
     set_key(name, "system/controlDict", "endTime", "0.04");
     set_key(name, "system/controlDict", "writeInterval", "0.02");
-    assert_int_equal(sh("%s/pcisph -case tests/output/%s -quiet > /dev/null 2>&1", bin_dir(), name), 0);
+    assert_int_equal(sh("%s/pcisph -case tests/output/%s -quiet > /dev/null 2>&1", bin_dir(), name),
+                     0);
     /* 100 bytes from the middle of the file, each inverted */
     char path[256];
     snprintf(path, sizeof path, "tests/output/%s/0.04/uniform/restart", name);
@@ -862,10 +890,12 @@ static void test_resume_after_stop(void **state)
 {
     (void)state;
     const char *name = "faults_resume";
-    assert_int_equal(sh("rm -rf tests/output/%s && cp -r tutorials/hydrostaticTank tests/output/%s && "
-                        "cd tests/output/%s && sed -i 's/^endTime .*/endTime 5;/; "
-                        "s/^writeInterval .*/writeInterval 0.02;/' system/controlDict",
-                        name, name, name), 0);
+    assert_int_equal(
+        sh("rm -rf tests/output/%s && cp -r tutorials/hydrostaticTank tests/output/%s && "
+           "cd tests/output/%s && sed -i 's/^endTime .*/endTime 5;/; "
+           "s/^writeInterval .*/writeInterval 0.02;/' system/controlDict",
+           name, name, name),
+        0);
     pid_t pid = fork();
     assert_true(pid >= 0);
     if (pid == 0) {
@@ -899,9 +929,11 @@ static void test_resume_after_stop(void **state)
     assert_true(rc != 0);
     assert_non_null(strstr(slurp(log), "-resume"));
     /* Allrun -resume continues to the (shortened) end */
-    assert_int_equal(sh("cd tests/output/%s && sed -i 's/^endTime .*/endTime 0.06;/' "
-                        "system/controlDict && SLUICE_DIR=$OLDPWD ./Allrun -resume > /dev/null 2>&1",
-                        name), 0);
+    assert_int_equal(
+        sh("cd tests/output/%s && sed -i 's/^endTime .*/endTime 0.06;/' "
+           "system/controlDict && SLUICE_DIR=$OLDPWD ./Allrun -resume > /dev/null 2>&1",
+           name),
+        0);
     snprintf(log, sizeof log, "tests/output/%s/log.pcisph", name);
     text = slurp(log);
     assert_non_null(strstr(text, "Stopped by a signal")); /* appended to, not replaced */
@@ -916,13 +948,17 @@ static void test_resume_after_stop(void **state)
 static void test_bom_and_crlf_accepted(void **state)
 {
     (void)state;
-    make_case("faults_crlf", "sed -i 's/$/\\r/' system/controlDict constant/fluidProperties && "
-                             "printf '\\357\\273\\277' > x && cat constant/boundaryProperties >> x && "
-                             "mv x constant/boundaryProperties");
+    make_case("faults_crlf",
+              "sed -i 's/$/\\r/' system/controlDict constant/fluidProperties && "
+              "printf '\\357\\273\\277' > x && cat constant/boundaryProperties >> x && "
+              "mv x constant/boundaryProperties");
     set_key("faults_crlf", "system/controlDict", "endTime", "0.01");
     set_key("faults_crlf", "system/controlDict", "writeInterval", "0.01");
-    assert_int_equal(sh("%s/pcisph -case tests/output/faults_crlf -quiet > tests/output/faults_crlf.log "
-                        "2>&1", bin_dir()), 0);
+    assert_int_equal(
+        sh("%s/pcisph -case tests/output/faults_crlf -quiet > tests/output/faults_crlf.log "
+           "2>&1",
+           bin_dir()),
+        0);
     check_intact("tests/output/faults_crlf", 0, NULL);
 }
 

@@ -61,7 +61,7 @@
 #include "neighbours/neighbours.h"
 #include "solver/pcisph.h"
 
-#define OUT "tests/output/functionObjects"
+#define OUT  "tests/output/functionObjects"
 #define TANK OUT "/tank"
 
 /* ---- small helpers -------------------------------------------------- */
@@ -126,11 +126,11 @@ static int close_to(double a, double b, double rel)
     return fabs(a - b) <= rel * fmax(fabs(a), fabs(b)) + 1e-12;
 }
 
-#define assert_close(a, b, rel)                                                              \
-    do {                                                                                     \
-        double a_ = (a), b_ = (b);                                                           \
-        if (!close_to(a_, b_, rel))                                                          \
-            fail_msg("%s = %.17g but %s = %.17g (rel %g)", #a, a_, #b, b_, (double)(rel));   \
+#define assert_close(a, b, rel)                                                            \
+    do {                                                                                   \
+        double a_ = (a), b_ = (b);                                                         \
+        if (!close_to(a_, b_, rel))                                                        \
+            fail_msg("%s = %.17g but %s = %.17g (rel %g)", #a, a_, #b, b_, (double)(rel)); \
     } while (0)
 
 /* ---- reading .dat files ---------------------------------------------- */
@@ -238,8 +238,8 @@ typedef struct sample_data {
 
 static void sample_make(sample_data *s, size_t n)
 {
-    static const double special[] = {0.0, -0.0, NAN, INFINITY, -INFINITY, DBL_MAX, DBL_MIN / 4,
-                                     0.1, 1e-300, -123456.789};
+    static const double special[] = {0.0,     -0.0,        NAN, INFINITY, -INFINITY,
+                                     DBL_MAX, DBL_MIN / 4, 0.1, 1e-300,   -123456.789};
     s->n = n;
     s->x = sl_calloc(n + 1, sizeof(double), "t");
     s->y = sl_calloc(n + 1, sizeof(double), "t");
@@ -272,8 +272,18 @@ static void sample_make(sample_data *s, size_t n)
 
 static void sample_free(sample_data *s)
 {
-    free(s->x); free(s->y); free(s->z); free(s->u); free(s->v); free(s->w); free(s->f64);
-    free(s->f32); free(s->i32); free(s->u32); free(s->i64); free(s->u8);
+    free(s->x);
+    free(s->y);
+    free(s->z);
+    free(s->u);
+    free(s->v);
+    free(s->w);
+    free(s->f64);
+    free(s->f32);
+    free(s->i32);
+    free(s->u32);
+    free(s->i64);
+    free(s->u8);
 }
 
 static void sample_write(const sample_data *s, const char *path, int fmt, double time)
@@ -317,16 +327,18 @@ static void check_sample(const sample_data *s, const vtkr_file *f, double time)
     double *e = sl_calloc(3 * n + 1, sizeof *e, "expected");
     assert_int_equal(f->npoints, n);
     assert_int_equal(f->narrays, 8);
-    if (isnan(time))
-        assert_true(isnan(f->time));
-    else
-        assert_true(same_double(f->time, time));
+    if (isnan(time)) assert_true(isnan(f->time));
+    else assert_true(same_double(f->time, time));
     for (size_t i = 0; i < n; i++) {
         double p[3] = {s->x[i], s->y[i], s->z[i]};
         for (int k = 0; k < 3; k++)
             if (!same_double(f->points[3 * i + (size_t)k], p[k])) fail_msg("point %zu differs", i);
     }
-    for (size_t i = 0; i < n; i++) { e[3 * i] = s->u[i]; e[3 * i + 1] = s->v[i]; e[3 * i + 2] = s->w[i]; }
+    for (size_t i = 0; i < n; i++) {
+        e[3 * i] = s->u[i];
+        e[3 * i + 1] = s->v[i];
+        e[3 * i + 2] = s->w[i];
+    }
     check_array(f, "velocity", 3, e);
     check_array(f, "special", 1, s->f64);
     for (size_t i = 0; i < n; i++) e[i] = (double)s->f32[i];
@@ -339,7 +351,10 @@ static void check_sample(const sample_data *s, const vtkr_file *f, double time)
     check_array(f, "int64", 1, e);
     for (size_t i = 0; i < n; i++) e[i] = (double)s->u8[i];
     check_array(f, "bytes", 1, e);
-    for (size_t i = 0; i < n; i++) { e[2 * i] = s->x[i]; e[2 * i + 1] = s->y[i]; }
+    for (size_t i = 0; i < n; i++) {
+        e[2 * i] = s->x[i];
+        e[2 * i + 1] = s->y[i];
+    }
     check_array(f, "pair", 2, e);
     assert_null(vtkr_find(f, "nothing"));
     free(e);
@@ -463,11 +478,16 @@ static void test_vtkr_corrupted(void **state)
         {-1, "<UnstructuredGrid>", "<PolyData>", "another dataset element"},
         {-1, "NumberOfPoints=\"5\"", "NumberOfPoints=\"6\"", "a wrong point count"},
         {-1, "NumberOfPoints=\"5\"", "NumberOfPoints=\"5x\"", "a malformed point count"},
-        {-1, "NumberOfPoints=\"5\"", "NumberOfPoints=\"99999999999999999999999\"", "a huge point count"},
-        {-1, "NumberOfPoints=\"5\"", "NumberOfPoints=\"18446744073709551615\"", "a point count of 2^64-1"},
-        {-1, "type=\"Float64\" Name=\"velocity\"", "type=\"Float65\" Name=\"velocity\"", "an unknown type"},
-        {-1, "Name=\"velocity\" NumberOfComponents=\"3\"", "Name=\"velocity\" NumberOfComponents=\"0\"", "zero components"},
-        {-1, "Name=\"Points\" NumberOfComponents=\"3\"", "Name=\"Points\" NumberOfComponents=\"2\"", "2D points"},
+        {-1, "NumberOfPoints=\"5\"", "NumberOfPoints=\"99999999999999999999999\"",
+         "a huge point count"},
+        {-1, "NumberOfPoints=\"5\"", "NumberOfPoints=\"18446744073709551615\"",
+         "a point count of 2^64-1"},
+        {-1, "type=\"Float64\" Name=\"velocity\"", "type=\"Float65\" Name=\"velocity\"",
+         "an unknown type"},
+        {-1, "Name=\"velocity\" NumberOfComponents=\"3\"",
+         "Name=\"velocity\" NumberOfComponents=\"0\"", "zero components"},
+        {-1, "Name=\"Points\" NumberOfComponents=\"3\"", "Name=\"Points\" NumberOfComponents=\"2\"",
+         "2D points"},
         {-1, "</Piece>", "</Peace>", "a misspelt closing tag"},
         {-1, "<Points>", "<Pints>", "an unknown section"},
         {-1, "</VTKFile>", "</VTKFilf>", "a wrong final tag"},
@@ -476,21 +496,32 @@ static void test_vtkr_corrupted(void **state)
         {-1, "Name=\"bytes\"", "Name=\"a&bogus;b\"", "an unknown entity"},
         {-1, "Name=\"bytes\"", "Name=\"bytes", "an unterminated attribute"},
         {-1, "Name=\"connectivity\"", "Name=\"connectivities\"", "no connectivity"},
-        {-1, "<Cells>", "<Cells><DataArray type=\"Int64\" Name=\"x\" format=\"ascii\">1 2</DataArray>", "a stray cell array"},
+        {-1, "<Cells>",
+         "<Cells><DataArray type=\"Int64\" Name=\"x\" format=\"ascii\">1 2</DataArray>",
+         "a stray cell array"},
         {FMT_ASCII, "format=\"ascii\">", "format=\"ascii\">1 ", "an extra ascii value"},
-        {FMT_ASCII, "format=\"ascii\">\n          ", "format=\"ascii\">\n          x", "a non-number"},
-        {FMT_ASCII, "Name=\"bytes\" format=\"ascii\">\n          0 ", "Name=\"bytes\" format=\"ascii\">\n          256 ", "a UInt8 out of range"},
-        {FMT_ASCII, "Name=\"int32\" format=\"ascii\">\n          2147483647", "Name=\"int32\" format=\"ascii\">\n          2147483648", "an Int32 out of range"},
-        {FMT_ASCII, "Name=\"id &amp; &lt;name&gt; &quot;quoted&quot;\" format=\"ascii\">\n          0 ", "Name=\"id &amp; &lt;name&gt; &quot;quoted&quot;\" format=\"ascii\">\n          -1 ", "a negative UInt32"},
+        {FMT_ASCII, "format=\"ascii\">\n          ", "format=\"ascii\">\n          x",
+         "a non-number"},
+        {FMT_ASCII, "Name=\"bytes\" format=\"ascii\">\n          0 ",
+         "Name=\"bytes\" format=\"ascii\">\n          256 ", "a UInt8 out of range"},
+        {FMT_ASCII, "Name=\"int32\" format=\"ascii\">\n          2147483647",
+         "Name=\"int32\" format=\"ascii\">\n          2147483648", "an Int32 out of range"},
+        {FMT_ASCII,
+         "Name=\"id &amp; &lt;name&gt; &quot;quoted&quot;\" format=\"ascii\">\n          0 ",
+         "Name=\"id &amp; &lt;name&gt; &quot;quoted&quot;\" format=\"ascii\">\n          -1 ",
+         "a negative UInt32"},
         {FMT_ASCII, "format=\"ascii\">", "format=\"binary\">", "inline binary"},
         {FMT_ZLIB, "format=\"appended\"", "format=\"binary\"", "inline binary"},
         {FMT_ZLIB, "encoding=\"raw\"", "encoding=\"base64\"", "base64 appended data"},
         {FMT_ZLIB, "offset=\"0\"", "offset=\"99999\"", "an offset past the data"},
         {FMT_ZLIB, "offset=\"0\"", "offset=\"-1\"", "a negative offset"},
         {FMT_ZLIB, " compressor=\"vtkZLibDataCompressor\"", "", "compressed data read as raw"},
-        {FMT_ZLIB, "compressor=\"vtkZLibDataCompressor\"", "compressor=\"vtkLZ4DataCompressor\"", "another compressor"},
+        {FMT_ZLIB, "compressor=\"vtkZLibDataCompressor\"", "compressor=\"vtkLZ4DataCompressor\"",
+         "another compressor"},
         {FMT_RAW, "byte_order=\"LittleEndian\"", "byte_order=\"BigEndian\"", "big-endian data"},
-        {FMT_RAW, "header_type=\"UInt64\"", "header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\"", "raw data read as compressed"},
+        {FMT_RAW, "header_type=\"UInt64\"",
+         "header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\"",
+         "raw data read as compressed"},
         {FMT_RAW, "</AppendedData>", "</AppendedData> ", "a space inside the trailer is fine"},
     };
     for (size_t m = 0; m < sizeof muts / sizeof *muts; m++)
@@ -506,7 +537,8 @@ static void test_vtkr_corrupted(void **state)
             sample_free(&s);
             char *buf = slurp(path, &len);
             if (!replace_once(buf, len, muts[m].from, muts[m].to, &out, &olen))
-                fail_msg("mutation '%s' does not apply to the %s file", muts[m].what, fmt_name[fmt]);
+                fail_msg("mutation '%s' does not apply to the %s file", muts[m].what,
+                         fmt_name[fmt]);
             spit(bad, out, olen);
             if (strstr(muts[m].what, "is fine")) {
                 vtkr_file f;
@@ -532,7 +564,11 @@ static void test_vtkr_corrupted(void **state)
         sample_free(&s);
         char *buf = slurp(path, &len);
         size_t at = appended_start(buf, len); /* TimeValue: 1 Float64 */
-        struct { size_t off; uint64_t delta; const char *what; } edits[] = {
+        struct {
+            size_t off;
+            uint64_t delta;
+            const char *what;
+        } edits[] = {
             {0, 1, "a byte count or block count one too large"},
             {0, (uint64_t)-1, "a byte count or block count one too small"},
             {0, (uint64_t)1 << 62, "a huge byte or block count"},
@@ -551,7 +587,8 @@ static void test_vtkr_corrupted(void **state)
         /* garbage between the last array and </AppendedData> */
         char *c = NULL;
         size_t clen;
-        assert_true(replace_once(buf, len, "\n  </AppendedData>", "X\n  </AppendedData>", &c, &clen));
+        assert_true(
+            replace_once(buf, len, "\n  </AppendedData>", "X\n  </AppendedData>", &c, &clen));
         spit(bad, c, clen);
         expect_error(bad, "bytes after the last array");
         free(c);
@@ -597,7 +634,8 @@ static void test_vtkr_corrupted(void **state)
             }
             vtkr_free(&f);
         }
-        print_message("%s: %d of %d random byte changes rejected\n", fmt_name[fmt], rejected, trials);
+        print_message("%s: %d of %d random byte changes rejected\n", fmt_name[fmt], rejected,
+                      trials);
         free(buf);
     }
 }
@@ -610,7 +648,7 @@ typedef struct world {
     sl_fluid f;
     sl_boundary b;
     pcs_solver s;
-    pcs_view v;           /* what the function objects read */
+    pcs_view v; /* what the function objects read */
 } world;
 
 static double urand(void) { return (double)rand() / ((double)RAND_MAX + 1.0); }
@@ -827,21 +865,37 @@ static void test_fo_errors(void **state)
 {
     (void)state;
     /* line: whether the message must name the entry's line */
-    static const struct { const char *entry, *expect; int line; } bad[] = {
-        {"x { type pressureProbe; }", "keyword 'type' in function object 'x': unknown type 'pressureProbe'; valid types: densityError, probes, waterGauges, energy", 1},
-        {"x { type probes; }", "controlDict: missing required keyword 'probeLocations' in function object 'x'", 0},
-        {"x { type probes; probeLocations ((1 2) (3 4)); }", "keyword 'probeLocations' in function object 'x': every point must be (x y z)", 1},
+    static const struct {
+        const char *entry, *expect;
+        int line;
+    } bad[] = {
+        {"x { type pressureProbe; }",
+         "keyword 'type' in function object 'x': unknown type 'pressureProbe'; valid types: "
+         "densityError, probes, waterGauges, energy",
+         1},
+        {"x { type probes; }",
+         "controlDict: missing required keyword 'probeLocations' in function object 'x'", 0},
+        {"x { type probes; probeLocations ((1 2) (3 4)); }",
+         "keyword 'probeLocations' in function object 'x': every point must be (x y z)", 1},
         {"x { type probes; probeLocations (); }", "needs at least one point", 1},
-        {"x { type probes; probeLocations ((0 0 0)); fields (pressure temperature); }", "unknown field 'temperature'; valid fields: pressure density velocity", 1},
+        {"x { type probes; probeLocations ((0 0 0)); fields (pressure temperature); }",
+         "unknown field 'temperature'; valid fields: pressure density velocity", 1},
         {"x { type waterGauges; gaugeLocations ((0 0 0)); }", "every location must be (x y)", 1},
-        {"x { type energy; writeControl runTime; }", "keyword 'writeControl' in function object 'x': 'runTime' is not one of: timeStep writeTime", 1},
-        {"x { type energy; writeInterval 0; }", "keyword 'writeInterval' in function object 'x': must be a whole number", 1},
-        {"x { type densityError; percentiles (50 101); }", "every percentile must be between 0 and 100", 1},
+        {"x { type energy; writeControl runTime; }",
+         "keyword 'writeControl' in function object 'x': 'runTime' is not one of: timeStep "
+         "writeTime",
+         1},
+        {"x { type energy; writeInterval 0; }",
+         "keyword 'writeInterval' in function object 'x': must be a whole number", 1},
+        {"x { type densityError; percentiles (50 101); }",
+         "every percentile must be between 0 and 100", 1},
         {"x { type densityError; histogramRange (1 0); }", "keyword 'histogramRange'", 1},
         {"x 3;", "function object 'x' must be a dictionary", 1},
     };
     for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
-        assert_int_equal(sh("rm -rf " OUT "/bad && mkdir -p " OUT " && cp -r tests/cases/hydrostaticTank " OUT "/bad"), 0);
+        assert_int_equal(sh("rm -rf " OUT "/bad && mkdir -p " OUT
+                            " && cp -r tests/cases/hydrostaticTank " OUT "/bad"),
+                         0);
         /* the entry's line: after the file's lines and "functions", "{" */
         char *old = slurp(OUT "/bad/system/controlDict", NULL);
         int line = 1;
@@ -868,8 +922,9 @@ static void test_fo_errors(void **state)
         assert_false(exists(OUT "/bad/0"));
     }
     /* -func naming neither an entry nor a type */
-    int rc = sh("%s/postProcess -case tests/cases/hydrostaticTank -func nothing > " OUT
-                "/bad/log 2>&1", bin_dir());
+    int rc =
+        sh("%s/postProcess -case tests/cases/hydrostaticTank -func nothing > " OUT "/bad/log 2>&1",
+           bin_dir());
     char *text = slurp(OUT "/bad/log", NULL);
     assert_int_not_equal(rc, 0);
     assert_non_null(strstr(text, "'nothing' is neither a function object"));
@@ -1033,7 +1088,7 @@ static void check_probes(const dat *d, const snapshot *s, double t)
         }
         for (int c = 0; c < 5; c++) assert_close(got[c], e[c], 1e-8);
     }
-    assert_true(isnan(row[dat_col(d, "pressure_2")])); /* 0.55: above the water */
+    assert_true(isnan(row[dat_col(d, "pressure_2")]));  /* 0.55: above the water */
     assert_false(isnan(row[dat_col(d, "pressure_1")])); /* on the floor */
 }
 
@@ -1120,7 +1175,8 @@ static void test_run_short(void **state)
         check_gauges(&ga, &s, t);
         /* the histogram counts every particle */
         dat h;
-        snprintf(path, sizeof path, TANK "/postProcessing/densityError/0/histogram_%s.dat", times[k]);
+        snprintf(path, sizeof path, TANK "/postProcessing/densityError/0/histogram_%s.dat",
+                 times[k]);
         dat_read_any(path, &h, 0);
         assert_string_equal(h.col[0], "binStart");
         double count = 0;
@@ -1132,15 +1188,19 @@ static void test_run_short(void **state)
     assert_true(exists(TANK "/postProcessing/densityError/0/histogram_0.dat"));
 
     /* postProcess on the written times reproduces the run's rows */
-    assert_int_equal(sh("%s/postProcess -case " TANK " -time 0.05:1 > " TANK "/log.postProcess 2>&1",
-                        bin_dir()), 0);
-    const char *files[4][2] = {{"densityError", "densityError"}, {"probes", "probes"},
-                               {"gauges", "waterGauges"}, {"energy", "energy"}};
+    assert_int_equal(
+        sh("%s/postProcess -case " TANK " -time 0.05:1 > " TANK "/log.postProcess 2>&1", bin_dir()),
+        0);
+    const char *files[4][2] = {{"densityError", "densityError"},
+                               {"probes", "probes"},
+                               {"gauges", "waterGauges"},
+                               {"energy", "energy"}};
     const dat *run[4] = {&de, &pr, &ga, &en};
     for (int k = 0; k < 4; k++) {
         char path[256];
         dat p;
-        snprintf(path, sizeof path, TANK "/postProcessing/%s/0.05/%s.dat", files[k][0], files[k][1]);
+        snprintf(path, sizeof path, TANK "/postProcessing/%s/0.05/%s.dat", files[k][0],
+                 files[k][1]);
         dat_read(path, &p);
         assert_int_equal(p.nrows, 2);
         assert_int_equal(p.ncols, run[k]->ncols);
@@ -1155,13 +1215,17 @@ static void test_run_short(void **state)
     }
     /* -func with a type's defaults, -latestTime */
     assert_int_equal(sh("%s/postProcess -case " TANK " -func energy -func densityError "
-                        "-latestTime > " TANK "/log.postProcess 2>&1", bin_dir()), 0);
+                        "-latestTime > " TANK "/log.postProcess 2>&1",
+                        bin_dir()),
+                     0);
     assert_true(exists(TANK "/postProcessing/energy/0.1/energy.dat"));
 
     /* a restart writes a new start-time folder and leaves the old one */
     assert_int_equal(sh("sed -i 's/^endTime 0.1;/endTime 0.15;/' " TANK "/system/controlDict && "
                         "echo 'startFrom latestTime;' >> " TANK "/system/controlDict && "
-                        "%s/pcisph -case " TANK " -quiet > " TANK "/log.restart 2>&1", bin_dir()), 0);
+                        "%s/pcisph -case " TANK " -quiet > " TANK "/log.restart 2>&1",
+                        bin_dir()),
+                     0);
     dat again;
     dat_read(TANK "/postProcessing/densityError/0.1/densityError.dat", &again);
     assert_true(again.nrows > 10);
@@ -1172,8 +1236,9 @@ static void test_run_short(void **state)
     dat_free(&again);
 
     /* densityError: all times, same columns, a plot */
-    assert_int_equal(sh("%s/densityError -case " TANK " -time :0.1 > " TANK "/log.densityError 2>&1",
-                        bin_dir()), 0);
+    assert_int_equal(
+        sh("%s/densityError -case " TANK " -time :0.1 > " TANK "/log.densityError 2>&1", bin_dir()),
+        0);
     dat u;
     dat_read(TANK "/postProcessing/densityError/0/densityError.dat", &u);
     assert_int_equal(u.nrows, 3);
@@ -1207,14 +1272,18 @@ static void test_run_short(void **state)
 static void run_copy(const char *src, const char *name, const char *edit)
 {
     assert_int_equal(sh("rm -rf " RUNS "/%s && mkdir -p " RUNS " && cp -r tests/cases/%s " RUNS
-                        "/%s && cd " RUNS "/%s && %s", name, src, name, name, edit), 0);
+                        "/%s && cd " RUNS "/%s && %s",
+                        name, src, name, name, edit),
+                     0);
 }
 
 /* Set `key value;` in system/controlDict of RUNS/<name>. */
 static void control(const char *name, const char *key, const char *value)
 {
     assert_int_equal(sh("cd " RUNS "/%s && (grep -v '^%s ' system/controlDict; echo '%s %s;') > "
-                        "c.new && mv c.new system/controlDict", name, key, key, value), 0);
+                        "c.new && mv c.new system/controlDict",
+                        name, key, key, value),
+                     0);
 }
 
 /* Run the solver (one thread) on RUNS/<name>; its output goes to
@@ -1230,10 +1299,7 @@ static char *solve(const char *name, const char *args, const char *log)
     return text;
 }
 
-static int same_bytes(const char *a, const char *b)
-{
-    return sh("cmp -s %s %s", a, b) == 0;
-}
+static int same_bytes(const char *a, const char *b) { return sh("cmp -s %s %s", a, b) == 0; }
 
 /* Every time directory of RUNS/<a> from time `from` on is in RUNS/<b>
  * under the same name with the same fluid.vtu and boundary.vtu, byte for
@@ -1401,7 +1467,8 @@ static void test_run_time_prefix(void **state)
     for (int r = 0; r + 2 < a.nrows; r++)
         for (int k = 0; k < a.ncols; k++)
             if (k != dat_col(&a, "wallTime") && a.v[r][k] != b.v[r][k])
-                fail_msg("row %d column %s: %.17g against %.17g", r, a.col[k], a.v[r][k], b.v[r][k]);
+                fail_msg("row %d column %s: %.17g against %.17g", r, a.col[k], a.v[r][k],
+                         b.v[r][k]);
     dat_free(&a);
     dat_free(&b);
 }
@@ -1445,8 +1512,10 @@ static void test_time_names_unique_and_true(void **state)
     char *log = solve("names", "", "run");
     assert_non_null(strstr(log, "Warning:"));
     assert_non_null(strstr(log, "timePrecision"));
-    hostile_record("system/controlDict", "timePrecision 1; writeInterval 0.002; (0.012 and 0.01 "
-                   "would both be \"0.01\")", log);
+    hostile_record("system/controlDict",
+                   "timePrecision 1; writeInterval 0.002; (0.012 and 0.01 "
+                   "would both be \"0.01\")",
+                   log);
     tdir_list l;
     sl_err err;
     assert_int_equal(tdir_list_read(RUNS "/names", "fluid.vtu", &l, &err), 0);
@@ -1474,7 +1543,8 @@ static void test_time_names_unique_and_true(void **state)
 static void test_summary_steps_taken(void **state)
 {
     (void)state;
-    run_copy("hydrostaticTank", "cut", "printf 'mode constant;\\ndeltaT 1;\\n' > system/timeStepDict");
+    run_copy("hydrostaticTank", "cut",
+             "printf 'mode constant;\\ndeltaT 1;\\n' > system/timeStepDict");
     control("cut", "endTime", "0.01");
     char *log = solve("cut", "", "run");
     assert_close(number_after(log, "deltaT min "), 0.01, 1e-12);
@@ -1483,8 +1553,9 @@ static void test_summary_steps_taken(void **state)
     if (quick()) return;
     /* constant 0.004 s on the dam break: some steps end above eta, stopped
      * by the guard well before maxIterations 50 */
-    run_copy("damBreakShort", "guard", "printf 'mode constant;\\ndeltaT 0.004;\\n' > "
-                                       "system/timeStepDict");
+    run_copy("damBreakShort", "guard",
+             "printf 'mode constant;\\ndeltaT 0.004;\\n' > "
+             "system/timeStepDict");
     log = solve("guard", "", "run");
     dat ts;
     dat_read(RUNS "/guard/postProcessing/timeStep/0/timeStep.dat", &ts);
@@ -1518,10 +1589,12 @@ static void test_run_hydrostatic(void **state)
     (void)state;
     if (quick()) skip();
     const double H = 0.4, z = 0.1;
-    assert_int_equal(run_tank("endTime 0.5;\nwriteInterval 0.25;\nfunctions {\n"
-                              "  p { type probes; fields (pressure); probeLocations ((0.15 0.15 0.1)); }\n"
-                              "  g { type waterGauges; gaugeLocations ((0.15 0.15)); }\n}\n",
-                              NULL), 0);
+    assert_int_equal(
+        run_tank("endTime 0.5;\nwriteInterval 0.25;\nfunctions {\n"
+                 "  p { type probes; fields (pressure); probeLocations ((0.15 0.15 0.1)); }\n"
+                 "  g { type waterGauges; gaugeLocations ((0.15 0.15)); }\n}\n",
+                 NULL),
+        0);
     dat p, g;
     dat_read(TANK "/postProcessing/p/0/probes.dat", &p);
     dat_read(TANK "/postProcessing/g/0/waterGauges.dat", &g);
@@ -1536,8 +1609,9 @@ static void test_run_hydrostatic(void **state)
     assert_true(n > 50);
     ps /= n;
     gs /= n;
-    print_message("probe at depth %.2f m: %.1f Pa (rho0 g (H - z) = %.1f Pa); gauge %.4f m (H = %.2f m)\n",
-                  H - z, ps, RHO0 * G * (H - z), gs, H);
+    print_message(
+        "probe at depth %.2f m: %.1f Pa (rho0 g (H - z) = %.1f Pa); gauge %.4f m (H = %.2f m)\n",
+        H - z, ps, RHO0 * G * (H - z), gs, H);
     assert_true(fabs(ps - RHO0 * G * (H - z)) < 0.1 * RHO0 * G * (H - z));
     assert_true(fabs(gs - H) < R0 / 2);
     dat_free(&p);
@@ -1548,11 +1622,16 @@ int main(void)
 {
     sl_log_set_quiet(1);
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_vtkr_roundtrip),  cmocka_unit_test(test_vtkr_missing),
-        cmocka_unit_test(test_vtkr_truncated),  cmocka_unit_test(test_vtkr_corrupted),
-        cmocka_unit_test(test_fo_query_grid),   cmocka_unit_test(test_fo_read),
-        cmocka_unit_test(test_fo_rows),         cmocka_unit_test(test_fo_errors),
-        cmocka_unit_test(test_run_short),       cmocka_unit_test(test_run_hydrostatic),
+        cmocka_unit_test(test_vtkr_roundtrip),
+        cmocka_unit_test(test_vtkr_missing),
+        cmocka_unit_test(test_vtkr_truncated),
+        cmocka_unit_test(test_vtkr_corrupted),
+        cmocka_unit_test(test_fo_query_grid),
+        cmocka_unit_test(test_fo_read),
+        cmocka_unit_test(test_fo_rows),
+        cmocka_unit_test(test_fo_errors),
+        cmocka_unit_test(test_run_short),
+        cmocka_unit_test(test_run_hydrostatic),
         cmocka_unit_test(test_restart_awkward_time),
         cmocka_unit_test(test_restart_before_shock),
         cmocka_unit_test(test_run_time_prefix),

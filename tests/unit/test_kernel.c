@@ -101,10 +101,8 @@ static void test_delta(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_normalisation),
-        cmocka_unit_test(test_support_and_continuity),
-        cmocka_unit_test(test_gradient),
-        cmocka_unit_test(test_gradient_consistency),
+        cmocka_unit_test(test_normalisation), cmocka_unit_test(test_support_and_continuity),
+        cmocka_unit_test(test_gradient),      cmocka_unit_test(test_gradient_consistency),
         cmocka_unit_test(test_delta),
     };
     return cmocka_run_group_tests_name("kernel", tests, NULL, NULL);

@@ -24,7 +24,7 @@
 #include "hostile_table.h"
 
 #define DATA "tests/data/mesh/"
-#define BAD "tests/data/mesh/bad/"
+#define BAD  "tests/data/mesh/bad/"
 
 static void assert_has(const char *msg, const char *part)
 {
@@ -87,18 +87,21 @@ static void test_bad_files(void **state)
     static const struct {
         const char *file, *msg;
     } cases[] = {
-        {BAD "truncated.stl", "truncated.stl: byte 80: not an STL file, or a truncated one: as "
-                              "binary STL it declares 12 triangles (684 bytes) but has 351 bytes"},
+        {BAD "truncated.stl",
+         "truncated.stl: byte 80: not an STL file, or a truncated one: as "
+         "binary STL it declares 12 triangles (684 bytes) but has 351 bytes"},
         {BAD "huge_count.stl", "declares 4294967295 triangles (214748364834 bytes) but has 184"},
         {BAD "garbage.stl", "garbage.stl: byte 80: not an STL file"},
         {BAD "nan.stl", "nan.stl: byte 250: triangle 4 has a non-finite coordinate"},
         {BAD "ascii_typo.stl", "ascii_typo.stl:19: expected 'vertex', found 'vertx'"},
         {BAD "ascii_truncated.stl", "expected 'vertex', found the end of the file"},
         {BAD "garbage.obj", "garbage.obj:2: invalid byte 0x1a (binary or corrupt file?)"},
-        {BAD "not_a_mesh.obj", "no faces found; not an OBJ file? (line 1: unknown statement "
-                               "'hello')"},
-        {BAD "index_out_of_range.obj", "index_out_of_range.obj:14: vertex index '9' out of range "
-                                       "(1..8 or -1..-8 defined so far)"},
+        {BAD "not_a_mesh.obj",
+         "no faces found; not an OBJ file? (line 1: unknown statement "
+         "'hello')"},
+        {BAD "index_out_of_range.obj",
+         "index_out_of_range.obj:14: vertex index '9' out of range "
+         "(1..8 or -1..-8 defined so far)"},
         {BAD "zero_index.obj", "zero_index.obj:9: vertex index 0 in '0' (OBJ indices start at 1)"},
         {BAD "nan.obj", "nan.obj:8: vertex coordinate 'nan' is not a finite number"},
         {BAD "short_face.obj", "short_face.obj:12: face has 2 vertices, expected at least 3"},
@@ -128,8 +131,9 @@ static void test_open_mesh(void **state)
     (void)state;
     assert_int_equal(mesh_read(BAD "open.obj", &m, &err), 0);
     assert_int_not_equal(mesh_validate(&m, "open.obj", MESH_REQUIRE_CLOSED, &r, &err), 0);
-    assert_has(err.msg, "open.obj: mesh is not closed: 4 edges are used by one triangle only, "
-                        "e.g. (");
+    assert_has(err.msg,
+               "open.obj: mesh is not closed: 4 edges are used by one triangle only, "
+               "e.g. (");
     assert_int_equal(mesh_validate(&m, "open.obj", 0, &r, &err), 0);
     assert_int_equal(r.open_edges, 4);
     assert_int_equal(r.closed, 0);
@@ -194,8 +198,13 @@ static void test_validate_errors(void **state)
     }
     for (uint32_t i = 0; i < (uint32_t)n; i++) {
         uint32_t a = 2 * i, b = 2 * i + 1, c, d;
-        if (i + 1 < (uint32_t)n) { c = 2 * i + 2; d = 2 * i + 3; }
-        else { c = 1; d = 0; } /* the twist: the rails swap */
+        if (i + 1 < (uint32_t)n) {
+            c = 2 * i + 2;
+            d = 2 * i + 3;
+        } else {
+            c = 1;
+            d = 0;
+        } /* the twist: the rails swap */
         mesh_add_triangle(&m, a, c, b);
         mesh_add_triangle(&m, b, c, d);
     }
@@ -274,9 +283,9 @@ static void test_weld(void **state)
     mesh_add_vertex(&m, 0, 0, 0);
     mesh_add_vertex(&m, 1, 0, 0);
     mesh_add_vertex(&m, 0, 1, 0);
-    mesh_add_vertex(&m, 1e-9, 0, 0);      /* = 0 */
-    mesh_add_vertex(&m, 1, 0, 1e-9);      /* = 1 */
-    mesh_add_vertex(&m, 0.5, 0.5, 0.0);   /* kept */
+    mesh_add_vertex(&m, 1e-9, 0, 0);    /* = 0 */
+    mesh_add_vertex(&m, 1, 0, 1e-9);    /* = 1 */
+    mesh_add_vertex(&m, 0.5, 0.5, 0.0); /* kept */
     mesh_add_triangle(&m, 3, 4, 5);
     assert_int_equal(mesh_weld(&m, 1e-6), 2);
     assert_int_equal(m.nv, 4);
@@ -324,8 +333,8 @@ static void test_primitives(void **state)
     assert_true(fabs(r.volume / (4.0 / 3.0 * M_PI * 8.0) - 1.0) < 0.01);
     mesh_free(&m);
 
-    assert_int_equal(mesh_make_cylinder(&m, (double[3]){0, 0, 0}, (double[3]){1, 1, 1}, 0.25, 128,
-                                        &err), 0);
+    assert_int_equal(
+        mesh_make_cylinder(&m, (double[3]){0, 0, 0}, (double[3]){1, 1, 1}, 0.25, 128, &err), 0);
     assert_int_equal(mesh_validate(&m, "cylinder", MESH_REQUIRE_CLOSED, &r, &err), 0);
     assert_int_equal(r.inverted + (int)r.reoriented, 0);
     assert_true(fabs(r.volume / (M_PI * 0.0625 * sqrt(3.0)) - 1.0) < 0.001);
@@ -378,8 +387,8 @@ static void test_distance_box(void **state)
     }
     /* on the face diagonals, just inside and just outside */
     for (int i = 0; i <= 100; i++) {
-        double t = i / 100.0, pin[3] = {lo[0] + t * (hi[0] - lo[0]), lo[1] + t * (hi[1] - lo[1]),
-                                        lo[2] + 1e-9},
+        double t = i / 100.0,
+               pin[3] = {lo[0] + t * (hi[0] - lo[0]), lo[1] + t * (hi[1] - lo[1]), lo[2] + 1e-9},
                pout[3] = {pin[0], pin[1], lo[2] - 1e-9};
         if (i == 0 || i == 100) continue;
         assert_true(mesh_signed_distance(&m, pin) < 0.0);
@@ -449,10 +458,10 @@ static double winding(const mesh *m, const double p[3])
         lb = norm3(b);
         lc = norm3(c);
         num = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-              a[2] * (b[0] * c[1] - b[1] * c[0]);
+            a[2] * (b[0] * c[1] - b[1] * c[0]);
         den = la * lb * lc + (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) * lc +
-              (a[0] * c[0] + a[1] * c[1] + a[2] * c[2]) * lb +
-              (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]) * la;
+            (a[0] * c[0] + a[1] * c[1] + a[2] * c[2]) * lb +
+            (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]) * la;
         w += 2.0 * atan2(num, den);
     }
     return w / (4.0 * M_PI);
@@ -543,8 +552,9 @@ static msample_quality sample(const mesh *m, double r0, msample_side side, sl_bo
     assert_int_equal(added, b->n);
     q = msample_spacing(b->n, b->x, b->y, b->z);
     print_message("%s, r0 = %g: %zu particles, nearest-neighbour spacing min %.3f mean %.3f max "
-                  "%.3f r0\n", side == MSAMPLE_OBSTACLE ? "obstacle" : "container", r0, b->n,
-                  q.min / r0, q.mean / r0, q.max / r0);
+                  "%.3f r0\n",
+                  side == MSAMPLE_OBSTACLE ? "obstacle" : "container", r0, b->n, q.min / r0,
+                  q.mean / r0, q.max / r0);
     assert_true(q.min >= 0.6 * r0 && q.max <= 1.4 * r0);
     assert_true(q.mean >= 0.85 * r0 && q.mean <= 1.15 * r0);
     for (size_t i = 0; i < b->n; i++) {
@@ -572,7 +582,7 @@ static void test_sample_sphere(void **state)
             double d[3] = {b.x[i] - c[0], b.y[i] - c[1], b.z[i] - c[2]}, r = norm3(d);
             double cosang = s * (d[0] * b.nx[i] + d[1] * b.ny[i] + d[2] * b.nz[i]) / r;
             assert_true(fabs(r - R) < 0.05 * r0); /* r0/2 behind the wall */
-            assert_true(cosang > 0.99);         /* out of the body / into the tank */
+            assert_true(cosang > 0.99);           /* out of the body / into the tank */
         }
         prt_boundary_free(&b);
     }
@@ -644,8 +654,8 @@ static void test_sample_misc(void **state)
     sl_boundary a, b;
     msample_params p = msample_defaults(0.04, MSAMPLE_OBSTACLE);
     (void)state;
-    assert_int_equal(mesh_make_cylinder(&m, (double[3]){0, 0, 0}, (double[3]){0, 0, 0.5}, 0.3, 96,
-                                        &err), 0);
+    assert_int_equal(
+        mesh_make_cylinder(&m, (double[3]){0, 0, 0}, (double[3]){0, 0, 0.5}, 0.3, 96, &err), 0);
     sample(&m, 0.04, MSAMPLE_OBSTACLE, &a);
     sample(&m, 0.04, MSAMPLE_OBSTACLE, &b);
     assert_int_equal(a.n, b.n);
@@ -698,9 +708,12 @@ static char *stderr_of(void (*f)(void *), void *arg)
  * each), outward; without its top face when `lid` is 0. */
 static void fine_box(mesh *m, int n, int lid)
 {
-    static const double o[6][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0.2, 0}, {0, 0, 0}, {0.2, 0, 0}, {0, 0, 0.2}};
-    static const double u[6][3] = {{0, .2, 0}, {.2, 0, 0}, {0, 0, .2}, {0, 0, .2}, {0, .2, 0}, {.2, 0, 0}};
-    static const double v[6][3] = {{.2, 0, 0}, {0, 0, .2}, {.2, 0, 0}, {0, .2, 0}, {0, 0, .2}, {0, .2, 0}};
+    static const double o[6][3] = {{0, 0, 0}, {0, 0, 0},   {0, 0.2, 0},
+                                   {0, 0, 0}, {0.2, 0, 0}, {0, 0, 0.2}};
+    static const double u[6][3] = {{0, .2, 0}, {.2, 0, 0}, {0, 0, .2},
+                                   {0, 0, .2}, {0, .2, 0}, {.2, 0, 0}};
+    static const double v[6][3] = {{.2, 0, 0}, {0, 0, .2}, {.2, 0, 0},
+                                   {0, .2, 0}, {0, 0, .2}, {0, .2, 0}};
     mesh_init(m);
     for (int f = 0; f < (lid ? 6 : 5); f++)
         for (int i = 0; i < n; i++)
@@ -747,8 +760,9 @@ static void test_open_obstacle_reported(void **state)
     fine_box(&m, 30, 0);
     char *out = stderr_of(validate_and_sample, &j);
     assert_int_equal(j.rc, 0);
-    assert_has(out, "Warning: openbox.stl: mesh is not closed: 120 edges are used by one "
-                    "triangle only");
+    assert_has(out,
+               "Warning: openbox.stl: mesh is not closed: 120 edges are used by one "
+               "triangle only");
     assert_has(out, "open sheet");
     if (strstr(out, "turns")) {
         assert_has(out, "at open rims");

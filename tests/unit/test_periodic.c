@@ -54,7 +54,8 @@ static void free_state(state_at *s)
     free(s->v);
 }
 
-static const char *threads1 = "sed -i 's/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict";
+static const char *threads1 =
+    "sed -i 's/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict";
 
 static void test_box_keeps_mass_and_momentum(void **state)
 {
@@ -89,8 +90,10 @@ static void test_channel_is_translation_invariant(void **state)
     (void)state;
     state_at a, b;
     char edit[512];
-    snprintf(edit, sizeof edit, "%s && sed -i 's/min (0.24 0 0); max (0.4 0.12 0.1)/min (0 0 0); "
-             "max (0.16 0.12 0.1)/' constant/fluidProperties", threads1);
+    snprintf(edit, sizeof edit,
+             "%s && sed -i 's/min (0.24 0 0); max (0.4 0.12 0.1)/min (0 0 0); "
+             "max (0.16 0.12 0.1)/' constant/fluidProperties",
+             threads1);
     assert_int_equal(run_edited("tests/cases/periodicChannel", "periodicChannelA", threads1), 0);
     assert_int_equal(run_edited("tests/cases/periodicChannel", "periodicChannelB", edit), 0);
     read_state("periodicChannelA", "0.1", &a);
@@ -121,7 +124,8 @@ static void test_threads_give_identical_files(void **state)
     assert_int_equal(run_edited("tests/cases/periodicChannel", "periodicChannel1", threads1), 0);
     assert_int_equal(run_edited("tests/cases/periodicChannel", "periodicChannel2", two), 0);
     assert_int_equal(system("cmp tests/output/periodicChannel1/0.3/fluid.vtu "
-                            "tests/output/periodicChannel2/0.3/fluid.vtu"), 0);
+                            "tests/output/periodicChannel2/0.3/fluid.vtu"),
+                     0);
 }
 
 /* Function objects see across a periodic face: a probe within h of the

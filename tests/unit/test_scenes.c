@@ -53,7 +53,8 @@ static void test_every_scene_runs(void **state)
         snprintf(cmd, sizeof cmd, "/usr/bin/python3 tests/cases/inspect_case.py tests/output/%s %s",
                  name, scenes[k].bounds);
         double nan = script_value(cmd, "nan"), out = script_value(cmd, "outside");
-        if (nan != 0 || out != 0) fail_msg("%s: %g non-finite values, %g particles outside", scenes[k].dir, nan, out);
+        if (nan != 0 || out != 0)
+            fail_msg("%s: %g non-finite values, %g particles outside", scenes[k].dir, nan, out);
     }
 }
 
@@ -65,21 +66,24 @@ static void test_paddle_not_penetrated(void **state)
     assert_int_equal(run_short("cases/wave", "paddle", "0.4"), 0);
     char cmd[1024];
     snprintf(cmd, sizeof cmd,
-             "sed -i 's/^writeInterval .*/writeInterval 0.1;/' tests/output/paddle/system/controlDict && "
-             "rm -rf tests/output/paddle/0.4 && %s/pcisph -case tests/output/paddle -quiet > /dev/null 2>&1",
+             "sed -i 's/^writeInterval .*/writeInterval 0.1;/' "
+             "tests/output/paddle/system/controlDict && "
+             "rm -rf tests/output/paddle/0.4 && %s/pcisph -case tests/output/paddle -quiet > "
+             "/dev/null 2>&1",
              bin_dir());
     assert_int_equal(system(cmd), 0);
     const char *times[] = {"0.1", "0.2", "0.3", "0.4"};
     double moved = 0;
     for (int k = 0; k < 4; k++) {
-        snprintf(cmd, sizeof cmd, "/usr/bin/python3 tests/cases/inside_body.py tests/output/paddle %s 1",
-                 times[k]);
+        snprintf(cmd, sizeof cmd,
+                 "/usr/bin/python3 tests/cases/inside_body.py tests/output/paddle %s 1", times[k]);
         assert_true(script_value(cmd, "inside") == 0);
     }
     FILE *p = popen("/usr/bin/python3 tests/cases/inside_body.py tests/output/paddle 0.4 1", "r");
     char line[256];
     while (fgets(line, sizeof line, p))
-        if (!strncmp(line, "lo=", 3)) moved = strtod(line + 3, NULL) - 0.1125; /* x of the back face at rest */
+        if (!strncmp(line, "lo=", 3))
+            moved = strtod(line + 3, NULL) - 0.1125; /* x of the back face at rest */
     pclose(p);
     print_message("paddle moved %.3f m\n", moved);
     assert_true(moved > 0.05);
@@ -130,11 +134,12 @@ static void test_splish_levels(void **state)
         double n = log_number("tests/output/splishLevels/log", "fluid particles");
         double r0 = log_number("tests/output/splishLevels/log", "particle spacing r0");
         if (n != levels[k].n || r0 != levels[k].r0)
-            fail_msg("level %s: %g fluid particles at r0 %g, expected %g at %g", levels[k].level,
-                     n, r0, levels[k].n, levels[k].r0);
+            fail_msg("level %s: %g fluid particles at r0 %g, expected %g at %g", levels[k].level, n,
+                     r0, levels[k].n, levels[k].r0);
     }
     assert_int_equal(system("SLUICE_BIN=bin tests/output/splishLevels/setLevel 1000 "
-                            "> /dev/null 2>&1") == 0, 0);
+                            "> /dev/null 2>&1") == 0,
+                     0);
 }
 
 int main(void)

@@ -41,8 +41,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#define OUT "tests/output/spheric"
-#define CASE OUT "/case"
+#define OUT   "tests/output/spheric"
+#define CASE  OUT "/case"
 #define TABLE CASE "/postProcessing/compareExperiment/table.csv"
 
 static int quick(void)
@@ -90,7 +90,8 @@ static void test_front_arrival(void **state)
     const double h2_exp = table_metric(t, "heights,H2,arrival_exp");
     free(t);
     printf("  r0 = %s m, arrival at %.3g m: H3 %.3f s (experiment %.3f s), H2 %.3f s "
-           "(experiment %.3f s)\n", r0, thr, h3_sim, h3_exp, h2_sim, h2_exp);
+           "(experiment %.3f s)\n",
+           r0, thr, h3_sim, h3_exp, h2_sim, h2_exp);
     assert_true(isfinite(h3_sim) && isfinite(h2_sim));
     assert_true(h3_sim > 0.1 && h3_sim < h2_sim);
     if (quick()) return;
@@ -100,10 +101,12 @@ static void test_front_arrival(void **state)
     assert_true(fabs(h2_exp - 0.36) <= 0.03);
     if (!(fabs(h3_sim - h3_exp) <= 0.05))
         fail_msg("the front reaches H3 at %.3f s, the experiment at %.3f s: more than 0.05 s "
-                 "apart", h3_sim, h3_exp);
+                 "apart",
+                 h3_sim, h3_exp);
     if (!(fabs(h2_sim - h2_exp) <= 0.05))
         fail_msg("the front reaches H2 at %.3f s, the experiment at %.3f s: more than 0.05 s "
-                 "apart", h2_sim, h2_exp);
+                 "apart",
+                 h2_sim, h2_exp);
 }
 
 int main(void)

@@ -27,7 +27,7 @@
 #include <string.h>
 #include <sys/wait.h>
 
-#define G 9.81
+#define G         9.81
 #define MAX_TIMES 256
 
 static const char *bin_dir(void)
@@ -110,10 +110,7 @@ static void read_written(const char *name, const char *args, written *w)
 }
 
 /* Kinetic + potential energy per unit particle mass (gravity along -z). */
-static double energy(const wtime *t)
-{
-    return t->ke + G * t->zmean * (double)t->n;
-}
+static double energy(const wtime *t) { return t->ke + G * t->zmean * (double)t->n; }
 
 /* ---- the record postProcessing/timeStep/0/timeStep.dat ---- */
 
@@ -150,7 +147,7 @@ static record read_record(const char *name)
 /* ---- criteria ---- */
 
 typedef struct limits {
-    double eta;       /* percent */
+    double eta; /* percent */
     int iter_min, iter_max;
     double energy_tol; /* allowed relative rise of the total energy */
 } limits;
@@ -169,18 +166,25 @@ static int check_common(const char *name, const written *w, const record *r, con
             fail_msg("%s at t = %s: unreadable %ld, non-finite values %ld, particles outside the "
                      "container %ld, inside a solid %ld",
                      name, t->time, t->unreadable, t->nan, t->outside, t->solid);
-        if (t->n != w->t[0].n) fail_msg("%s at t = %s: %ld particles, %ld at the start", name, t->time, t->n, w->t[0].n);
+        if (t->n != w->t[0].n)
+            fail_msg("%s at t = %s: %ld particles, %ld at the start", name, t->time, t->n,
+                     w->t[0].n);
         if (!(energy(t) <= (1.0 + lim->energy_tol) * e0))
             fail_msg("%s at t = %s: energy %.6g, %.3f times the initial %.6g (energy created: "
-                     "a blow-up)", name, t->time, energy(t), energy(t) / e0, e0);
+                     "a blow-up)",
+                     name, t->time, energy(t), energy(t) / e0, e0);
     }
     int shocks = 0;
     const double eta_max = 10.0 * lim->eta;
     for (size_t i = 0; i < r->n; i++) {
         const double *row = r->row[i];
         for (int k = 0; k < R_NCOL; k++)
-            if (!isfinite(row[k])) fail_msg("%s: record row %zu (t = %g) has a non-finite value", name, i, row[0]);
-        if (row[R_SHOCK] != 0.0) { shocks++; continue; }
+            if (!isfinite(row[k]))
+                fail_msg("%s: record row %zu (t = %g) has a non-finite value", name, i, row[0]);
+        if (row[R_SHOCK] != 0.0) {
+            shocks++;
+            continue;
+        }
         if (!(row[R_MAX] < eta_max))
             fail_msg("%s at t = %g: accepted step with rhoErrMax %.3f %% >= eta_max %.3g %%", name,
                      row[R_TIME], row[R_MAX], eta_max);
@@ -216,8 +220,8 @@ static void test_high_drop(void **state)
     lim.iter_min = lim.iter_max = 3; /* adaptive: exactly `iterations` */
     int shocks = check_common(name, &w, &r, &lim);
     double vmax = record_max(&r, R_VMAX, 0.0);
-    print_message("highDrop: %zu steps, %d shocks, vmax %.2f m/s, rhoErrMax %.2f %%\n", r.n,
-                  shocks, vmax, record_max(&r, R_MAX, 0.0));
+    print_message("highDrop: %zu steps, %d shocks, vmax %.2f m/s, rhoErrMax %.2f %%\n", r.n, shocks,
+                  vmax, record_max(&r, R_MAX, 0.0));
     assert_true(vmax > 6.5); /* it did fall that fast */
     assert_true(shocks >= 1);
     /* the block has merged with the pool: everything below the drop height */
@@ -256,8 +260,10 @@ static void test_thin_wall(void **state)
     const char *edit = quick() ? "sed -i 's/^endTime .*/endTime 0.2;/' system/controlDict" : NULL;
     int rc = run_case("tests/cases/thinWall", name, edit);
     written w;
-    read_written(name, "--domain 0 0 0 0.8 0.3 0.8 --box 0.4 0 0 0.425 0.3 0.8 "
-                       "--count 0.425 0 0 0.8 0.3 0.8", &w);
+    read_written(name,
+                 "--domain 0 0 0 0.8 0.3 0.8 --box 0.4 0 0 0.425 0.3 0.8 "
+                 "--count 0.425 0 0 0.8 0.3 0.8",
+                 &w);
     long leaked = 0;
     double vmax = 0;
     for (size_t i = 0; i < w.n; i++) {
@@ -265,7 +271,8 @@ static void test_thin_wall(void **state)
         if (w.t[i].vmax > vmax) vmax = w.t[i].vmax;
     }
     print_message("thinWall: exit %d, %zu writes, at most %ld particles on the dry side, vmax %.3g "
-                  "m/s\n", rc, w.n, leaked, vmax);
+                  "m/s\n",
+                  rc, w.n, leaked, vmax);
     assert_int_equal(rc, 0);
     if (leaked) fail_msg("%ld particles leaked through the thin wall", leaked);
     record r = read_record(name);
@@ -299,7 +306,8 @@ static void test_tall_column(void **state)
     char edit[256];
     snprintf(edit, sizeof edit,
              "sed -i 's/^deltaT .*/deltaT 0.001;/' system/timeStepDict && "
-             "sed -i 's/^endTime .*/endTime %g;/' system/controlDict", t_end);
+             "sed -i 's/^endTime .*/endTime %g;/' system/controlDict",
+             t_end);
     assert_int_equal(run_case("tests/cases/tallColumn", name, edit), 0);
     written w;
     read_written(name, "--domain 0 0 0 0.15 0.15 1.2", &w);
@@ -318,8 +326,9 @@ static void test_tall_column(void **state)
         double v = sqrt(2 * t->ke / (double)t->n);
         if (v > rms) rms = v;
         if (t->vmax > vmax) vmax = t->vmax;
-        if (time <= t_mid + 1e-9) { if (t->ke > ke_first) ke_first = t->ke; }
-        else if (t->ke > ke_second) ke_second = t->ke;
+        if (time <= t_mid + 1e-9) {
+            if (t->ke > ke_first) ke_first = t->ke;
+        } else if (t->ke > ke_second) ke_second = t->ke;
     }
     print_message("tallColumn: %g s, avg rho_err %.3f %%, drift %.2g m, rms speed %.3g m/s, "
                   "vmax %.3g m/s, max KE %.3g then %.3g\n",
@@ -389,10 +398,11 @@ static void test_too_large_step(void **state)
             outside += w.t[i].outside;
         }
         int ok = avg <= defaults.eta && (double)unconverged <= 0.01 * (double)r.n &&
-                 emax <= (1 + defaults.energy_tol) * e0 && outside == 0;
+            emax <= (1 + defaults.energy_tol) * e0 && outside == 0;
         print_message("%s, deltaT %g: exit 0 after %zu steps; %zu stopped at maxIterations, max "
                       "rho_err avg %.2f %%, energy up to %.2f x initial, %ld particles outside: "
-                      "%s\n", c->src, c->dt, r.n, unconverged, avg, emax / e0, outside,
+                      "%s\n",
+                      c->src, c->dt, r.n, unconverged, avg, emax / e0, outside,
                       ok ? "converged" : "NEITHER CONVERGED NOR STOPPED");
         failures += !ok;
         free(r.row);
@@ -403,10 +413,8 @@ static void test_too_large_step(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_high_drop),
-        cmocka_unit_test(test_jet_corner),
-        cmocka_unit_test(test_thin_wall),
-        cmocka_unit_test(test_tall_column),
+        cmocka_unit_test(test_high_drop),      cmocka_unit_test(test_jet_corner),
+        cmocka_unit_test(test_thin_wall),      cmocka_unit_test(test_tall_column),
         cmocka_unit_test(test_too_large_step),
     };
     return cmocka_run_group_tests_name("stability", tests, NULL, NULL);

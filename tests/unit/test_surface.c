@@ -38,7 +38,7 @@
 #include <string.h>
 
 #define OUT "tests/output/surface"
-#define PY "/usr/bin/python3 tests/unit/surface_check.py"
+#define PY  "/usr/bin/python3 tests/unit/surface_check.py"
 /* The dam break's surfaces enclose N r0^3 within this fraction. */
 #define SRF_DAM_VOLUME 0.03
 
@@ -97,9 +97,10 @@ static void test_random_fields_closed(void **state)
             for (int j = 0; j < n; j++)
                 for (int i = 0; i < n; i++) {
                     seed = seed * 1103515245u + 12345u;
-                    const int border = i == 0 || j == 0 || k == 0 || i == n - 1 || j == n - 1 ||
-                                       k == n - 1;
-                    g.f[(k * n + j) * n + i] = border ? 0.0f : (float)((seed >> 16) % 1000) / 1000.0f;
+                    const int border =
+                        i == 0 || j == 0 || k == 0 || i == n - 1 || j == n - 1 || k == n - 1;
+                    g.f[(k * n + j) * n + i] =
+                        border ? 0.0f : (float)((seed >> 16) % 1000) / 1000.0f;
                 }
         for (int k = 0; k + 1 < n; k++)
             for (int j = 0; j + 1 < n; j++)
@@ -108,7 +109,7 @@ static void test_random_fields_closed(void **state)
                     for (int c = 0; c < 8; c++)
                         pat |= (g.f[((k + (c >> 2 & 1)) * n + j + (c >> 1 & 1)) * n + i + (c & 1)] >
                                 0.5f)
-                               << c;
+                            << c;
                     if (!seen[pat]++) patterns++;
                 }
         srf_mesh m1, m2;
@@ -378,8 +379,8 @@ static void test_ball_vtp_reads_back_in_vtk(void **state)
     }
     /* a triangle naming a point that is not there is refused, nothing written */
     m.tri[5] = (int64_t)m.nv;
-    assert_int_not_equal(vtk_write_triangles(OUT "/ball/bad.vtp", m.nv, m.x, m.y, m.z, m.nt,
-                                             m.tri, f, 2, NULL, &err),
+    assert_int_not_equal(vtk_write_triangles(OUT "/ball/bad.vtp", m.nv, m.x, m.y, m.z, m.nt, m.tri,
+                                             f, 2, NULL, &err),
                          0);
     assert_non_null(strstr(err.msg, "refers to point"));
     assert_int_not_equal(run("test -e " OUT "/ball/bad.vtp"), 0);
@@ -427,9 +428,8 @@ static void test_dam_break_surfaces(void **state)
     /* the gauge in the column: at t = 0 its top, 0.6 m (the colour field puts a
      * flat surface half a spacing beyond the last layer, at 0.6 - r0/2);
      * the line through (5, 5) misses the fluid */
-    assert_int_equal(run("awk '$1 == \"0\" {print $8, $9}' " DAM
-                         "/postProcessing/surface/0/surface.dat"),
-                     0);
+    assert_int_equal(
+        run("awk '$1 == \"0\" {print $8, $9}' " DAM "/postProcessing/surface/0/surface.dat"), 0);
     print_message("surface height above (0.2, 0.3) at t = 0 and beside the tank: %s", output);
     assert_true(fabs(strtod(output, NULL) - 0.6) < 0.25 * 0.03);
     assert_non_null(strstr(output, "nan"));

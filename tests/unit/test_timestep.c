@@ -26,9 +26,9 @@
 #define ETC "etc/caseDicts/timeStepDict"
 
 /* A typical set-up: h = 2 r0 = 0.02 m, eta_avg = 1 %, dt = 1 ms. */
-#define H 0.02
+#define H   0.02
 #define ETA 0.01
-#define DT 1e-3
+#define DT  1e-3
 
 #define SHOCKS (TS_C25 | TS_C26 | TS_C27)
 
@@ -104,22 +104,22 @@ static void test_defaults_are_the_papers(void **state)
     ts_params p = defaults();
     assert_int_equal(p.mode, TS_ADAPTIVE);
     assert_true(p.delta_t == 0.0 && p.delta_t_min == 0.0 && p.delta_t_max == 0.0);
-    assert_int_equal(p.iterations, 3);            /* Sec. 3.3 */
-    assert_true(p.initial_cfl == 0.25);           /* Sec. 3.3 */
-    assert_true(p.eta_max_factor == 10.0);        /* Sec. 3.3 */
-    assert_true(p.increase_factor == 1.002);      /* +0.2 % */
-    assert_true(p.decrease_factor == 0.998);      /* -0.2 % */
-    assert_true(p.increase_force == 0.19);        /* (16) */
-    assert_true(p.increase_max_density == 4.5);   /* (17) */
-    assert_true(p.increase_avg_density == 0.9);   /* (18) */
-    assert_true(p.increase_velocity == 0.39);     /* (19) */
-    assert_true(p.decrease_force == 0.2);         /* (20) */
-    assert_true(p.decrease_max_density == 5.5);   /* (21) */
-    assert_true(p.decrease_avg_density == 1.0);   /* (22) */
-    assert_true(p.decrease_velocity == 0.4);      /* (23) */
-    assert_true(p.shock_force == 0.2);            /* (24) */
-    assert_true(p.shock_velocity == 0.25);        /* (24) */
-    assert_true(p.shock_velocity_cfl == 0.45);    /* (27) */
+    assert_int_equal(p.iterations, 3);          /* Sec. 3.3 */
+    assert_true(p.initial_cfl == 0.25);         /* Sec. 3.3 */
+    assert_true(p.eta_max_factor == 10.0);      /* Sec. 3.3 */
+    assert_true(p.increase_factor == 1.002);    /* +0.2 % */
+    assert_true(p.decrease_factor == 0.998);    /* -0.2 % */
+    assert_true(p.increase_force == 0.19);      /* (16) */
+    assert_true(p.increase_max_density == 4.5); /* (17) */
+    assert_true(p.increase_avg_density == 0.9); /* (18) */
+    assert_true(p.increase_velocity == 0.39);   /* (19) */
+    assert_true(p.decrease_force == 0.2);       /* (20) */
+    assert_true(p.decrease_max_density == 5.5); /* (21) */
+    assert_true(p.decrease_avg_density == 1.0); /* (22) */
+    assert_true(p.decrease_velocity == 0.4);    /* (23) */
+    assert_true(p.shock_force == 0.2);          /* (24) */
+    assert_true(p.shock_velocity == 0.25);      /* (24) */
+    assert_true(p.shock_velocity_cfl == 0.45);  /* (27) */
     /* eta_avg < delta_shock < eta_max */
     assert_true(p.delta_shock_factor > 1.0 && p.delta_shock_factor < p.eta_max_factor);
     assert_true(p.shock_max_ratio > 0.0 && p.shock_max_ratio < 1.0);
@@ -144,8 +144,8 @@ static void test_defaults_match_etc(void **state)
         if (!strcmp(key, "mode") || !strcmp(key, "controller")) {
             const char *w = NULL;
             assert_int_equal(dict_get_word(d, key, &w, &err), 0);
-            assert_string_equal(w, !strcmp(key, "mode") ? ts_mode_name(p.mode)
-                                                         : ts_controller_name(p.controller));
+            assert_string_equal(
+                w, !strcmp(key, "mode") ? ts_mode_name(p.mode) : ts_controller_name(p.controller));
             continue;
         }
         if (ts_param_value(&p, key, &compiled)) fail_msg("%s: unknown key '%s'", ETC, key);
@@ -189,11 +189,11 @@ static void test_increase_needs_all(void **state)
         unsigned fails;
         ts_obs o;
     } rows[] = {
-        {TS_C16, {0.1 * ETA, 1.0 * ETA, 1.0, force_for(1.0 / 0.195)}}, /* 0.19 < 0.195 < 0.2 */
-        {TS_C17, {0.1 * ETA, 5.0 * ETA, 1.0, 10.0}},                  /* 4.5 <= 5 <= 5.5 */
-        {TS_C17, {0.1 * ETA, 4.5 * ETA, 1.0, 10.0}},                  /* (17) is strict */
-        {TS_C18, {0.95 * ETA, 1.0 * ETA, 1.0, 10.0}},                 /* 0.9 <= 0.95 < 1 */
-        {TS_C18, {0.9 * ETA, 1.0 * ETA, 1.0, 10.0}},                  /* (18) is strict */
+        {TS_C16, {0.1 * ETA, 1.0 * ETA, 1.0, force_for(1.0 / 0.195)}},  /* 0.19 < 0.195 < 0.2 */
+        {TS_C17, {0.1 * ETA, 5.0 * ETA, 1.0, 10.0}},                    /* 4.5 <= 5 <= 5.5 */
+        {TS_C17, {0.1 * ETA, 4.5 * ETA, 1.0, 10.0}},                    /* (17) is strict */
+        {TS_C18, {0.95 * ETA, 1.0 * ETA, 1.0, 10.0}},                   /* 0.9 <= 0.95 < 1 */
+        {TS_C18, {0.9 * ETA, 1.0 * ETA, 1.0, 10.0}},                    /* (18) is strict */
         {TS_C19, {0.1 * ETA, 1.0 * ETA, speed_for(1.0 / 0.395), 10.0}}, /* 0.39 < 0.395 < 0.4 */
     };
     for (size_t i = 0; i < sizeof rows / sizeof rows[0]; i++) {
@@ -363,9 +363,9 @@ static void test_shock_ratio_limit(void **state)
 /* ---- snapshot and rollback ------------------------------------------------- */
 
 static const ts_obs sequence[] = {
-    {0.1 * ETA, 1.0 * ETA, 1.0, 10.0},   {0.5 * ETA, 3.0 * ETA, 2.0, 50.0},
-    {0.95 * ETA, 5.0 * ETA, 3.0, 100.0}, {1.1 * ETA, 5.8 * ETA, 4.0, 800.0},
-    {0.3 * ETA, 9.5 * ETA, 5.0, 900.0},  {0.1 * ETA, 1.0 * ETA, 1.0, 10.0},
+    {0.1 * ETA, 1.0 * ETA, 1.0, 10.0},    {0.5 * ETA, 3.0 * ETA, 2.0, 50.0},
+    {0.95 * ETA, 5.0 * ETA, 3.0, 100.0},  {1.1 * ETA, 5.8 * ETA, 4.0, 800.0},
+    {0.3 * ETA, 9.5 * ETA, 5.0, 900.0},   {0.1 * ETA, 1.0 * ETA, 1.0, 10.0},
     {0.1 * ETA, 12.0 * ETA, 9.0, 5000.0}, {0.1 * ETA, 1.0 * ETA, 1.0, 10.0},
 };
 #define NSEQ (sizeof sequence / sizeof sequence[0])
@@ -433,10 +433,10 @@ static void test_rollback(void **state)
     assert_int_equal(step(&p, &s, o, &c), TS_SHOCK);
     double dt_new = s.dt;
     ts_rollback(&s, &two_back);
-    assert_true(s.dt == dt_new);                         /* the new step */
+    assert_true(s.dt == dt_new);                          /* the new step */
     assert_true(s.prev_err_max == two_back.prev_err_max); /* history of that time */
     assert_int_equal(s.have_prev, two_back.have_prev);
-    assert_int_equal(s.count.shock, 1);                  /* the run's counts */
+    assert_int_equal(s.count.shock, 1); /* the run's counts */
     assert_int_equal(s.count.steps, two_back.count.steps + 3);
     /* Resuming behaves as from the snapshot with the new step. */
     ts_state ref = two_back;
@@ -470,12 +470,11 @@ static void test_initial_step(void **state)
     assert_has(rule, "free fall");
     assert_has(rule, "at rest");
     /* At rest, no height: eq. (16) with F = |g|. */
-    assert_near(ts_initial(&p, H, 0.0, 9.81, 0.0, rule, sizeof rule),
-                        0.19 * sqrt(H / 9.81), 1e-18);
+    assert_near(ts_initial(&p, H, 0.0, 9.81, 0.0, rule, sizeof rule), 0.19 * sqrt(H / 9.81), 1e-18);
     assert_has(rule, "eq. (16)");
     /* Slow fluid: gravity bounds the paper's (huge) step. */
-    assert_near(ts_initial(&p, H, 1e-6, 9.81, 0.0, rule, sizeof rule),
-                        0.19 * sqrt(H / 9.81), 1e-18);
+    assert_near(ts_initial(&p, H, 1e-6, 9.81, 0.0, rule, sizeof rule), 0.19 * sqrt(H / 9.81),
+                1e-18);
     /* At rest without gravity: no time scale. */
     assert_true(ts_initial(&p, H, 0.0, 0.0, 0.5, rule, sizeof rule) == 0.0);
     assert_has(rule, "no time scale");
@@ -645,12 +644,11 @@ static void test_validate_rejects(void **state)
 {
     (void)state;
     ts_params p;
-#define BAD(field, value, key)                                       \
-    do {                                                             \
-        p = defaults();                                              \
-        p.field = value;                                             \
-        if (!rejects(&p, ETA, key))                                  \
-            fail_msg("%s = %g accepted", key, (double)(value));      \
+#define BAD(field, value, key)                                                          \
+    do {                                                                                \
+        p = defaults();                                                                 \
+        p.field = value;                                                                \
+        if (!rejects(&p, ETA, key)) fail_msg("%s = %g accepted", key, (double)(value)); \
     } while (0)
     BAD(increase_force, -0.19, "increaseForce");
     BAD(shock_force, 0.0, "shockForce");
@@ -668,8 +666,8 @@ static void test_validate_rejects(void **state)
     BAD(shock_max_ratio, 1.0, "shockMaxRatio");
     BAD(shock_max_ratio, 0.0, "shockMaxRatio");
     BAD(iterations, 0, "iterations");
-    BAD(increase_force, 0.25, "increaseForce");        /* > decreaseForce */
-    BAD(increase_velocity, 0.41, "increaseVelocity");  /* > decreaseVelocity */
+    BAD(increase_force, 0.25, "increaseForce");       /* > decreaseForce */
+    BAD(increase_velocity, 0.41, "increaseVelocity"); /* > decreaseVelocity */
     BAD(increase_avg_density, 1.1, "increaseAvgDensity");
     BAD(increase_max_density, 6.0, "increaseMaxDensity");
     BAD(delta_t, (double)NAN, "deltaT");
@@ -679,15 +677,14 @@ static void test_validate_rejects(void **state)
     BAD(cost_increase_factor, 1.0, "costIncreaseFactor");
     BAD(cost_decrease_factor, 1.0, "costDecreaseFactor");
 #undef BAD
-#define BAD(field, value, key)                                       \
-    do {                                                             \
-        p = defaults();                                              \
-        p.controller = TS_COST;                                      \
-        p.field = value;                                             \
-        if (!rejects(&p, ETA, key))                                  \
-            fail_msg("%s = %g accepted", key, (double)(value));      \
+#define BAD(field, value, key)                                                          \
+    do {                                                                                \
+        p = defaults();                                                                 \
+        p.controller = TS_COST;                                                         \
+        p.field = value;                                                                \
+        if (!rejects(&p, ETA, key)) fail_msg("%s = %g accepted", key, (double)(value)); \
     } while (0)
-    BAD(cost_max_density, 10.0, "costMaxDensity");     /* = etaMaxFactor: a shock */
+    BAD(cost_max_density, 10.0, "costMaxDensity"); /* = etaMaxFactor: a shock */
     BAD(cost_max_density, 0.5, "costMaxDensity");
     p = defaults(); /* checked with controller cost only */
     p.cost_max_density = 10.0;
@@ -841,8 +838,9 @@ static void test_cost_shocks(void **state)
     assert_true(s.dt == again.dt);
     char buf[256];
     ts_criteria_text(&p, TS_COST_FEWER | TS_C22 | TS_COST_LIMIT, buf, sizeof buf);
-    assert_string_equal(buf, "cost: fewer iterations than targetIterations 8; cost: limited by "
-                             "(16), (19) or deltaTMax");
+    assert_string_equal(buf,
+                        "cost: fewer iterations than targetIterations 8; cost: limited by "
+                        "(16), (19) or deltaTMax");
 }
 
 /* controller: ihmsen2010 (default) or cost; anything else names the key. */
@@ -881,8 +879,9 @@ static void test_text(void **state)
     ts_criteria_text(&p, TS_INCREASE_ALL, buf, sizeof buf);
     assert_string_equal(buf, "(16)-(19) all hold");
     ts_criteria_text(&p, TS_C26 | TS_C27 | TS_C21 | TS_C24_FORCE, buf, sizeof buf);
-    assert_string_equal(buf, "(26) rho_err_max > eta_max = 10 eta_avg; (27) 0.45 h/vmax < dt; "
-                             "dt_new = 0.2 sqrt(h/Fmax) (24)");
+    assert_string_equal(buf,
+                        "(26) rho_err_max > eta_max = 10 eta_avg; (27) 0.45 h/vmax < dt; "
+                        "dt_new = 0.2 sqrt(h/Fmax) (24)");
     ts_criteria_text(&p, TS_C25 | TS_LIMIT_RATIO, buf, sizeof buf);
     assert_has(buf, "(25)");
     assert_has(buf, "shockMaxRatio");

@@ -70,12 +70,10 @@ static void test_edit_set_then_value(void **state)
 {
     (void)state;
     write_dict();
-    assert_int_equal(tool("editDictionary", "-entry viscosity/alpha -set 0.1 " OUT "/dict/props",
-                          bin_dir()),
-                     0);
-    assert_int_equal(tool("editDictionary", "-entry viscosity/alpha -value " OUT "/dict/props",
-                          bin_dir()),
-                     0);
+    assert_int_equal(
+        tool("editDictionary", "-entry viscosity/alpha -set 0.1 " OUT "/dict/props", bin_dir()), 0);
+    assert_int_equal(
+        tool("editDictionary", "-entry viscosity/alpha -value " OUT "/dict/props", bin_dir()), 0);
     assert_string_equal(output, "0.1\n");
     /* only the value's bytes changed: comments, #include, $var as they were */
     char *text = slurp(OUT "/dict/props"), *want = replaced(dict_text, "0.05;", "0.1;");
@@ -86,9 +84,9 @@ static void test_edit_set_then_value(void **state)
     assert_string_equal(text, common_text);
     free(text);
     /* a vector, and -value of an entry given by $var */
-    assert_int_equal(tool("editDictionary", "-entry gravity -set '(0 0 -1.62)' " OUT "/dict/props",
-                          bin_dir()),
-                     0);
+    assert_int_equal(
+        tool("editDictionary", "-entry gravity -set '(0 0 -1.62)' " OUT "/dict/props", bin_dir()),
+        0);
     assert_int_equal(tool("editDictionary", "-entry gravity -value " OUT "/dict/props", bin_dir()),
                      0);
     assert_string_equal(output, "(0 0 -1.62)\n");
@@ -102,9 +100,8 @@ static void test_edit_set_in_included_file(void **state)
 {
     (void)state;
     write_dict();
-    assert_int_equal(tool("editDictionary", "-entry rhoWater -set 998 " OUT "/dict/props",
-                          bin_dir()),
-                     0);
+    assert_int_equal(
+        tool("editDictionary", "-entry rhoWater -set 998 " OUT "/dict/props", bin_dir()), 0);
     assert_non_null(strstr(output, "included file"));
     char *text = slurp(OUT "/dict/common"), *want = replaced(common_text, "1000", "998");
     assert_string_equal(text, want);
@@ -121,20 +118,18 @@ static void test_edit_add_entries(void **state)
 {
     (void)state;
     write_dict();
-    assert_int_equal(tool("editDictionary", "-entry viscosity/model -set becker " OUT "/dict/props",
-                          bin_dir()),
-                     0);
-    assert_int_equal(tool("editDictionary", "-entry minIterations -set 3 " OUT "/dict/props",
-                          bin_dir()),
-                     0);
+    assert_int_equal(
+        tool("editDictionary", "-entry viscosity/model -set becker " OUT "/dict/props", bin_dir()),
+        0);
+    assert_int_equal(
+        tool("editDictionary", "-entry minIterations -set 3 " OUT "/dict/props", bin_dir()), 0);
     char *text = slurp(OUT "/dict/props");
     assert_non_null(strstr(text, "    soundSpeed  20;\n    model       becker;\n}\n"));
     assert_non_null(strstr(text, "}\nminIterations   3;\n\n// ****** //\n"));
     free(text);
     /* the parent dictionary must exist */
-    assert_int_not_equal(tool("editDictionary", "-entry solver/model -set x " OUT "/dict/props",
-                              bin_dir()),
-                         0);
+    assert_int_not_equal(
+        tool("editDictionary", "-entry solver/model -set x " OUT "/dict/props", bin_dir()), 0);
     assert_non_null(strstr(output, "solver"));
 }
 
@@ -142,25 +137,21 @@ static void test_edit_missing_entry_and_bad_file(void **state)
 {
     (void)state;
     write_dict();
-    assert_int_not_equal(tool("editDictionary", "-entry viscosity/alpah -value " OUT "/dict/props",
-                              bin_dir()),
-                         0);
+    assert_int_not_equal(
+        tool("editDictionary", "-entry viscosity/alpah -value " OUT "/dict/props", bin_dir()), 0);
     assert_non_null(strstr(output, "viscosity/alpah"));
     assert_non_null(strstr(output, "did you mean 'alpha'"));
-    assert_int_not_equal(tool("editDictionary", "-entry nothing -remove " OUT "/dict/props",
-                              bin_dir()),
-                         0);
+    assert_int_not_equal(
+        tool("editDictionary", "-entry nothing -remove " OUT "/dict/props", bin_dir()), 0);
     assert_non_null(strstr(output, "nothing"));
     spit(OUT "/dict/bad", "a 1;\nb (1 2;\n");
     assert_int_not_equal(tool("editDictionary", OUT "/dict/bad", bin_dir()), 0);
     assert_non_null(strstr(output, OUT "/dict/bad:2:"));
     /* two values, or a value that breaks the file, are refused and change nothing */
-    assert_int_not_equal(tool("editDictionary", "-entry eta -set '1; b 2' " OUT "/dict/props",
-                              bin_dir()),
-                         0);
-    assert_int_not_equal(tool("editDictionary", "-entry eta -set '(1 2' " OUT "/dict/props",
-                              bin_dir()),
-                         0);
+    assert_int_not_equal(
+        tool("editDictionary", "-entry eta -set '1; b 2' " OUT "/dict/props", bin_dir()), 0);
+    assert_int_not_equal(
+        tool("editDictionary", "-entry eta -set '(1 2' " OUT "/dict/props", bin_dir()), 0);
     char *text = slurp(OUT "/dict/props");
     assert_string_equal(text, dict_text);
     free(text);
@@ -178,9 +169,8 @@ static void test_edit_remove_and_keywords(void **state)
     free(want);
     assert_int_equal(tool("editDictionary", "-keywords " OUT "/dict/props", bin_dir()), 0);
     assert_string_equal(output, "FoamFile\nrhoWater\nrho0\ngravity\nviscosity\n");
-    assert_int_equal(tool("editDictionary", "-keywords -entry viscosity " OUT "/dict/props",
-                          bin_dir()),
-                     0);
+    assert_int_equal(
+        tool("editDictionary", "-keywords -entry viscosity " OUT "/dict/props", bin_dir()), 0);
     assert_string_equal(output, "alpha\nsoundSpeed\n");
     assert_int_equal(tool("editDictionary", "-expand " OUT "/dict/props", bin_dir()), 0);
     assert_non_null(strstr(output, "rho0            1000;\n"));
@@ -215,8 +205,8 @@ static void test_clone_copies_input_not_results(void **state)
     assert_true(exists(OUT "/dst/system/controlDict"));
     assert_true(exists(OUT "/dst/constant/fluidProperties"));
     assert_true(exists(OUT "/dst/Allrun"));
-    const char *results[] = {"0", "0.1", "0.4.tmp.1", "postProcessing", "log.pcisph",
-                             "fluid.pvd", "fluid.vtu.series"};
+    const char *results[] = {"0",          "0.1",       "0.4.tmp.1",       "postProcessing",
+                             "log.pcisph", "fluid.pvd", "fluid.vtu.series"};
     for (size_t i = 0; i < sizeof results / sizeof *results; i++) {
         char p[256];
         snprintf(p, sizeof p, OUT "/dst/%s", results[i]);
@@ -288,8 +278,9 @@ static void write_sweep(const char *dir, const char *results)
     snprintf(path, sizeof path, "%s/sweepDict", dir);
     FILE *f = fopen(path, "w");
     assert_non_null(f);
-    fprintf(f, "baseCase base;\nparameters\n{\n"
-               "    \"constant/fluidProperties/eta\" (0.1 1);\n}\n%s",
+    fprintf(f,
+            "baseCase base;\nparameters\n{\n"
+            "    \"constant/fluidProperties/eta\" (0.1 1);\n}\n%s",
             results);
     fclose(f);
 }
@@ -298,16 +289,16 @@ static void test_sweep_print_jobs(void **state)
 {
     (void)state;
     write_sweep(OUT "/sweepJobs", "");
-    assert_int_equal(tool("sweepCase", "-printJobs " OUT "/sweepJobs/sweepDict 2>/dev/null",
-                          bin_dir()),
-                     0);
+    assert_int_equal(
+        tool("sweepCase", "-printJobs " OUT "/sweepJobs/sweepDict 2>/dev/null", bin_dir()), 0);
     char *line2 = strchr(output, '\n');
     assert_non_null(line2);
     assert_non_null(strstr(output, "/pcisph -case "));
     assert_true(strstr(output, "/cases/eta_0.1 > ") && strstr(output, "/cases/eta_1 > "));
     assert_non_null(strstr(output, "/cases/eta_1/log.pcisph 2>&1\n"));
     assert_string_equal(strchr(line2 + 1, '\n'), "\n"); /* two lines */
-    assert_int_equal(tool("editDictionary", "-entry eta -value " OUT
+    assert_int_equal(tool("editDictionary",
+                          "-entry eta -value " OUT
                           "/sweepJobs/cases/eta_0.1/constant/fluidProperties",
                           bin_dir()),
                      0);
@@ -347,7 +338,8 @@ static void test_sweep_misspelt_parameter(void **state)
     write_sweep(OUT "/sweepBad", "");
     FILE *f = fopen(OUT "/sweepBad/sweepDict", "w");
     assert_non_null(f);
-    fprintf(f, "baseCase base;\nparameters\n{\n    \"system/controlDict/timePrecision\" (6 8);\n}\n");
+    fprintf(f,
+            "baseCase base;\nparameters\n{\n    \"system/controlDict/timePrecision\" (6 8);\n}\n");
     fclose(f);
     if (tool("sweepCase", "-print-jobs " OUT "/sweepBad/sweepDict", bin_dir()) != 0)
         fail_msg("a known key at its default was refused: %s", output);
@@ -362,9 +354,8 @@ static void test_sweep_collect_fake_results(void **state)
     for (int i = 0; i < 2; i++) {
         char dir[256], p[320];
         snprintf(dir, sizeof dir, OUT "/sweepFake/cases/%s", names[i]);
-        assert_int_equal(run("mkdir -p %s/postProcessing/timeStep/0 %s/postProcessing/probe/0",
-                             dir, dir),
-                         0);
+        assert_int_equal(
+            run("mkdir -p %s/postProcessing/timeStep/0 %s/postProcessing/probe/0", dir, dir), 0);
         snprintf(p, sizeof p, "%s/log.pcisph", dir);
         spit(p, "Time = 0.1\nEnd: 3 steps\n");
         snprintf(p, sizeof p, "%s/postProcessing/timeStep/0/timeStep.dat", dir);
@@ -384,13 +375,15 @@ static void test_sweep_collect_fake_results(void **state)
     }
     assert_int_equal(tool("sweepCase", "-collect " OUT "/sweepFake/sweepDict", bin_dir()), 0);
     char *csv = slurp(OUT "/sweepFake/results.csv");
-    assert_string_equal(csv, "case,eta,status,wallTime,steps,meanIterations,maxRhoErrAvg,"
-                             "maxRhoErrMax,shocks,meanRhoErrAvg,maxVolErrAvg,p\n"
-                             "eta_0.1,0.1,finished,7,3,6,0.07,0.6,2,0.06,1.25,12.5\n"
-                             "eta_1,1,finished,1,1,3,0.5,0.9,0,0.5,2,20\n");
+    assert_string_equal(csv,
+                        "case,eta,status,wallTime,steps,meanIterations,maxRhoErrAvg,"
+                        "maxRhoErrMax,shocks,meanRhoErrAvg,maxVolErrAvg,p\n"
+                        "eta_0.1,0.1,finished,7,3,6,0.07,0.6,2,0.06,1.25,12.5\n"
+                        "eta_1,1,finished,1,1,3,0.5,0.9,0,0.5,2,20\n");
     free(csv);
     char *md = slurp(OUT "/sweepFake/results.md");
-    assert_non_null(strstr(md, "| eta_0.1 | 0.1 | finished | 7 | 3 | 6 | 0.07 | 0.6 | 2 | 0.06 | 1.25 | 12.5 |"));
+    assert_non_null(strstr(
+        md, "| eta_0.1 | 0.1 | finished | 7 | 3 | 6 | 0.07 | 0.6 | 2 | 0.06 | 1.25 | 12.5 |"));
     free(md);
 }
 
@@ -427,11 +420,13 @@ static void test_sweep_runs_the_solver(void **state)
         skip();
         return;
     }
-    assert_int_equal(tool("plotSweep", "-o " OUT "/sweepRun/plot.png " OUT
+    assert_int_equal(tool("plotSweep",
+                          "-o " OUT "/sweepRun/plot.png " OUT
                           "/sweepRun/results.csv wallTime maxRhoErrAvg",
                           bin_dir()),
                      0);
-    assert_int_equal(tool("monitorCase", "-case " OUT "/sweepRun/cases/eta_1 -once -png " OUT
+    assert_int_equal(tool("monitorCase",
+                          "-case " OUT "/sweepRun/cases/eta_1 -once -png " OUT
                           "/sweepRun/monitor.png",
                           bin_dir()),
                      0);
@@ -504,21 +499,21 @@ static void test_plot_sweep_pareto(void **state)
         skip();
         return;
     }
-    assert_int_equal(tool("plotSweep", "-pareto -output " PARETO "/front.png " PARETO
-                          "/results.csv wallTime err",
-                          bin_dir()),
-                     0);
+    assert_int_equal(
+        tool("plotSweep",
+             "-pareto -output " PARETO "/front.png " PARETO "/results.csv wallTime err", bin_dir()),
+        0);
     assert_file_is_table(PARETO "/front_pareto.csv", "abce");
-    assert_non_null(strstr(output, "Pareto front (4 of 7 rows):\n  case wallTime err\n"
-                                   "  a 1 5\n  b 2 3\n  c 2 3\n  e 4 1\n"));
+    assert_non_null(strstr(output,
+                           "Pareto front (4 of 7 rows):\n  case wallTime err\n"
+                           "  a 1 5\n  b 2 3\n  c 2 3\n  e 4 1\n"));
     assert_non_null(strstr(output, "Note: 4 of 11 rows of " PARETO "/results.csv left out"));
     char *png = slurp(PARETO "/front.png");
     assert_memory_equal(png, "\x89PNG", 4);
     free(png);
     /* the front is in the legend; without -pareto no front is written */
-    assert_int_equal(tool("plotSweep", "-pareto -dumb " PARETO "/results.csv wallTime err",
-                          bin_dir()),
-                     0);
+    assert_int_equal(
+        tool("plotSweep", "-pareto -dumb " PARETO "/results.csv wallTime err", bin_dir()), 0);
     assert_non_null(strstr(output, "Pareto front $"));
     assert_int_equal(run("rm " PARETO "/err_vs_wallTime_pareto.csv"), 0);
     assert_int_equal(tool("plotSweep", PARETO "/results.csv wallTime err", bin_dir()), 0);
@@ -534,14 +529,16 @@ static void test_plot_sweep_where(void **state)
         skip();
         return;
     }
-    assert_int_equal(tool("plotSweep", "-pareto -where mode=constant -o " PARETO
-                          "/constant.png " PARETO "/results.csv wallTime err",
+    assert_int_equal(tool("plotSweep",
+                          "-pareto -where mode=constant -o " PARETO "/constant.png " PARETO
+                          "/results.csv wallTime err",
                           bin_dir()),
                      0);
     assert_file_is_table(PARETO "/constant_pareto.csv", "ce"); /* g beaten, i left out */
     assert_non_null(strstr(output, "Note: 1 of 4 rows"));
     /* two conditions, both must hold; the default name tells the subset */
-    assert_int_equal(tool("plotSweep", "-pareto -where mode=adaptive -where wallTime=1 " PARETO
+    assert_int_equal(tool("plotSweep",
+                          "-pareto -where mode=adaptive -where wallTime=1 " PARETO
                           "/results.csv wallTime err",
                           bin_dir()),
                      0);
@@ -559,27 +556,25 @@ static void test_plot_sweep_where_errors(void **state)
         skip();
         return;
     }
-    assert_int_not_equal(tool("plotSweep", "-pareto -where mdoe=adaptive " PARETO
-                              "/results.csv wallTime err",
+    assert_int_not_equal(tool("plotSweep",
+                              "-pareto -where mdoe=adaptive " PARETO "/results.csv wallTime err",
                               bin_dir()),
                          0);
     assert_non_null(strstr(output, PARETO "/results.csv: no column 'mdoe' (-where mdoe=adaptive)"));
-    assert_int_not_equal(tool("plotSweep", "-pareto -where mode " PARETO
-                              "/results.csv wallTime err",
-                              bin_dir()),
-                         0);
+    assert_int_not_equal(
+        tool("plotSweep", "-pareto -where mode " PARETO "/results.csv wallTime err", bin_dir()), 0);
     assert_non_null(strstr(output, "bad -where 'mode'"));
-    assert_int_not_equal(tool("plotSweep", "-pareto -where mode=adaptve " PARETO
-                              "/results.csv wallTime err",
+    assert_int_not_equal(tool("plotSweep",
+                              "-pareto -where mode=adaptve " PARETO "/results.csv wallTime err",
                               bin_dir()),
                          0);
     assert_non_null(strstr(output, PARETO "/results.csv: no row has -where mode=adaptve"));
-    assert_non_null(strstr(output, "Values of 'mode' in " PARETO "/results.csv: 'adaptive' "
-                                   "'constant'\n"));
-    assert_int_not_equal(tool("plotSweep", "-pareto -where case=f " PARETO
-                              "/results.csv wallTime err",
-                              bin_dir()),
-                         0);
+    assert_non_null(strstr(output,
+                           "Values of 'mode' in " PARETO "/results.csv: 'adaptive' "
+                           "'constant'\n"));
+    assert_int_not_equal(
+        tool("plotSweep", "-pareto -where case=f " PARETO "/results.csv wallTime err", bin_dir()),
+        0);
     assert_non_null(strstr(output, "no row left by -where has finite numbers"));
     /* gnuplot fails (no positive x on a log axis) after the front was written */
     spit(PARETO "/negative.csv", "case,x,y\na,-1,2\nb,-2,1\n");
@@ -591,17 +586,19 @@ static void test_plot_sweep_where_errors(void **state)
 }
 
 
-
 /* Item 21: make demo says what it runs, where its log is, shows progress
  * with the time left, and where to look at the result (shortened here to
  * 0.004 s of simulated time, progress lines every 0.1 s). */
 static void test_demo_says_what_and_where(void **state)
 {
     (void)state;
-    assert_int_equal(run("SLUICE_DEMO_DIR=$PWD/" OUT "/demo SLUICE_DEMO_END=0.004 SLUICE_PROGRESS=plain "
-                         "SLUICE_PROGRESS_PERIOD=0.1 OMP_NUM_THREADS=1 etc/runDemo"), 0);
+    assert_int_equal(run("SLUICE_DEMO_DIR=$PWD/" OUT
+                         "/demo SLUICE_DEMO_END=0.004 SLUICE_PROGRESS=plain "
+                         "SLUICE_PROGRESS_PERIOD=0.1 OMP_NUM_THREADS=1 etc/runDemo"),
+                     0);
     assert_non_null(strstr(output, "damBreak tutorial"));
-    assert_non_null(strstr(output, "24k fluid particles, 0.004 s of simulated time, adaptive time step, all cores"));
+    assert_non_null(strstr(
+        output, "24k fluid particles, 0.004 s of simulated time, adaptive time step, all cores"));
     assert_non_null(strstr(output, "Per-step log: "));
     assert_non_null(strstr(output, OUT "/demo/log.pcisph"));
     const char *p = strstr(output, "Progress: t = ");
@@ -653,17 +650,24 @@ static void write_two_sessions(const char *dir)
     fresh(dir);
     assert_int_equal(run("mkdir -p %s/system %s/postProcessing/timeStep/0 "
                          "%s/postProcessing/timeStep/0.3 && echo 'endTime 1;' > "
-                         "%s/system/controlDict", dir, dir, dir, dir), 0);
+                         "%s/system/controlDict",
+                         dir, dir, dir, dir),
+                     0);
     const char *head = "# Time\tdeltaT\titerations\trhoErrAvg\trhoErrMax\tvMax\tFMax\tshock\t"
                        "wallTime\tcontrollerDeltaT\tvolErrAvg\tvolErrMax\n";
     char text[2048], path[512];
-    snprintf(text, sizeof text, "%s0.1\t0.1\t3\t0.1\t1\t1\t1\t0\t1\t0.1\t0.1\t1\n"
-             "0.2\t0.1\t3\t0.2\t1\t1\t1\t0\t1\t0.1\t0.2\t1\n0.3\t0.1\t3\t0.3\t1\t1\t1\t0\t1\t0.1\t0.3\t1\n"
-             "0.4\t0.1\t3\t9\t1\t1\t1\t0\t1\t0.1\t9\t1\n0.5\t0.1\t3\t9\t1\t1\t1\t0\t1\t0.1\t9\t1\n", head);
+    snprintf(text, sizeof text,
+             "%s0.1\t0.1\t3\t0.1\t1\t1\t1\t0\t1\t0.1\t0.1\t1\n"
+             "0.2\t0.1\t3\t0.2\t1\t1\t1\t0\t1\t0.1\t0.2\t1\n0.3\t0.1\t3\t0.3\t1\t1\t1\t0\t1\t0."
+             "1\t0.3\t1\n"
+             "0.4\t0.1\t3\t9\t1\t1\t1\t0\t1\t0.1\t9\t1\n0.5\t0.1\t3\t9\t1\t1\t1\t0\t1\t0.1\t9\t1\n",
+             head);
     snprintf(path, sizeof path, "%s/postProcessing/timeStep/0/timeStep.dat", dir);
     spit(path, text);
-    snprintf(text, sizeof text, "%s0.4\t0.1\t3\t0.4\t1\t1\t1\t0\t1\t0.1\t0.4\t1\n"
-             "0.5\t0.1\t3\t0.5\t1\t1\t1\t0\t1\t0.1\t0.5\t1\n0.6\t0.1\t3\t0.6\t1\t1\t1\t0\t1\t0.1\t0.6\t1\n",
+    snprintf(text, sizeof text,
+             "%s0.4\t0.1\t3\t0.4\t1\t1\t1\t0\t1\t0.1\t0.4\t1\n"
+             "0.5\t0.1\t3\t0.5\t1\t1\t1\t0\t1\t0.1\t0.5\t1\n0.6\t0.1\t3\t0.6\t1\t1\t1\t0\t1\t0."
+             "1\t0.6\t1\n",
              head);
     snprintf(path, sizeof path, "%s/postProcessing/timeStep/0.3/timeStep.dat", dir);
     spit(path, text);
@@ -718,9 +722,11 @@ static void test_plot_units(void **state)
     assert_non_null(strstr(output, "vMax [m/s]"));
     assert_non_null(strstr(output, " 0.2 ") ? strstr(output, " 0.4 ") : NULL);
     fresh(OUT "/unitsSweep");
-    spit(OUT "/unitsSweep/results.csv", "case,eta,wallTime,maxRhoErrAvg\na,0.5,10,0.2\nb,1,5,0.4\n");
-    assert_int_equal(tool("plotSweep", "-dumb " OUT "/unitsSweep/results.csv wallTime maxRhoErrAvg",
-                          bin_dir()), 0);
+    spit(OUT "/unitsSweep/results.csv",
+         "case,eta,wallTime,maxRhoErrAvg\na,0.5,10,0.2\nb,1,5,0.4\n");
+    assert_int_equal(
+        tool("plotSweep", "-dumb " OUT "/unitsSweep/results.csv wallTime maxRhoErrAvg", bin_dir()),
+        0);
     assert_non_null(strstr(output, "wallTime [s]"));
     assert_non_null(strstr(output, "maxRhoErrAvg [%]"));
 }
@@ -734,7 +740,8 @@ static void fake_program(const char *path, int pass, int skip, int fail)
     char text[2048];
     snprintf(text, sizeof text,
              "#!/bin/sh\n"
-             "printf 'fake input\\t%s input\\tError: tests/output/x_%s/system/controlDict:3: bad | pipe\\n' "
+             "printf 'fake input\\t%s input\\tError: tests/output/x_%s/system/controlDict:3: bad | "
+             "pipe\\n' "
              ">> \"$SLUICE_HOSTILE_TSV\"\n"
              "echo '[==========] Running %d test(s).'\n"
              "echo '[  PASSED  ] %d test(s).'\n"
@@ -757,7 +764,8 @@ static void test_run_tests_names_and_skips(void **state)
     fake_program(OUT "/runtests/build/tests/test_a", 2, 1, 0);
     fake_program(OUT "/runtests/build/tests/test_b", 3, 0, 0);
     int rc = run("SLUICE_HOSTILE_TSV=$PWD/" OUT "/runtests/rows.tsv SLUICE_HOSTILE_DOC=$PWD/" OUT
-                 "/runtests/table.md tests/run_tests " OUT "/runtests/build %s", bin_dir());
+                 "/runtests/table.md tests/run_tests " OUT "/runtests/build %s",
+                 bin_dir());
     assert_int_equal(rc, 0);
     const char *a = strstr(output, "==> test_a (1 of 2"), *b = strstr(output, "==> test_b (2 of 2");
     assert_non_null(a);
@@ -766,7 +774,8 @@ static void test_run_tests_names_and_skips(void **state)
     assert_non_null(strstr(output, "<== test_a: 2 passed, 0 failed, 1 skipped"));
     assert_non_null(strstr(output, "5 passed, 0 failed, 1 skipped\n"));
     char *md = slurp(OUT "/runtests/table.md");
-    assert_non_null(strstr(md, "| fake input | `a input` | `Error: <case>/system/controlDict:3: bad \\| pipe` |"));
+    assert_non_null(strstr(
+        md, "| fake input | `a input` | `Error: <case>/system/controlDict:3: bad \\| pipe` |"));
     assert_non_null(strstr(md, "| fake input | `b input` |"));
     assert_non_null(strstr(md, "2 inputs in 1 classes"));
     free(md);
@@ -774,7 +783,8 @@ static void test_run_tests_names_and_skips(void **state)
     fake_program(OUT "/runtests/build/tests/test_b", 3, 0, 1);
     assert_int_equal(run("rm %s/runtests/table.md && SLUICE_HOSTILE_TSV=$PWD/" OUT
                          "/runtests/rows.tsv SLUICE_HOSTILE_DOC=$PWD/" OUT "/runtests/table.md "
-                         "tests/run_tests " OUT "/runtests/build %s", OUT, bin_dir()),
+                         "tests/run_tests " OUT "/runtests/build %s",
+                         OUT, bin_dir()),
                      1);
     assert_non_null(strstr(output, "5 passed, 1 failed, 1 skipped\n"));
     assert_false(exists(OUT "/runtests/table.md"));
@@ -804,7 +814,8 @@ static size_t table_options(const char *prog, char *buf, size_t len, char kinds[
 {
     if (run("%s/%s -completionWords", bin_dir(), prog) != 0)
         fail_msg("%s does not answer -completionWords: it is not on the application frame "
-                 "(libsrc/app, see doc/architecture.md)", prog);
+                 "(libsrc/app, see doc/architecture.md)",
+                 prog);
     size_t n = 0, used = 0;
     for (char *line = strtok(output, "\n"); line; line = strtok(NULL, "\n")) {
         char name[64], kind[16];
@@ -830,7 +841,8 @@ static void test_app_help_lists_every_option(void **state)
         assert_int_equal(run("%s/%s -help", bin_dir(), program_names[p]), 0);
         char want[128];
         snprintf(want, sizeof want, "Usage: %.60s [options]", program_names[p]);
-        if (strncmp(output, want, strlen(want))) fail_msg("%s -help: %.200s", program_names[p], output);
+        if (strncmp(output, want, strlen(want)))
+            fail_msg("%s -help: %.200s", program_names[p], output);
         const char *opts = strstr(output, "\nOptions:\n"), *end;
         assert_non_null(opts);
         end = strstr(opts + 1, "\n\n");
@@ -845,7 +857,8 @@ static void test_app_help_lists_every_option(void **state)
         }
         size_t listed = 0; /* lines "  -x" of the Options section */
         for (const char *q = opts; (q = strstr(q + 1, "\n  -")) && q < end;) listed++;
-        if (listed != n) fail_msg("%s -help lists %zu options, its table %zu", program_names[p], listed, n);
+        if (listed != n)
+            fail_msg("%s -help lists %zu options, its table %zu", program_names[p], listed, n);
     }
 }
 
@@ -863,8 +876,10 @@ static void test_app_bad_number_refused(void **state)
         {"monitorCase", "-refresh soon", "monitorCase: -refresh: 'soon' is not a number"},
         {"monitorCase", "-refresh 0", "monitorCase: -refresh: '0' must be above 0"},
         {"stableTimeStep", "-dtMin 1e-3x", "stableTimeStep: -dtMin: '1e-3x' is not a number"},
-        {"stableTimeStep", "-tolerance 5%x", "stableTimeStep: -tolerance: '5%x' is not a positive number"},
-        {"compareExperiment", "-filter nan -data x", "compareExperiment: -filter: 'nan' is not a number"},
+        {"stableTimeStep", "-tolerance 5%x",
+         "stableTimeStep: -tolerance: '5%x' is not a positive number"},
+        {"compareExperiment", "-filter nan -data x",
+         "compareExperiment: -filter: 'nan' is not a number"},
         {"listTimes", "-time 0.1,x " OUT "/badNumber", "-time '0.1,x': expected times and ranges"},
         {"pcisph", "-case", "pcisph: -case needs an argument <dir>"},
     };
@@ -890,7 +905,8 @@ static void test_app_old_spelling_warns(void **state)
     (void)state;
     fake_case(OUT "/alias");
     assert_int_equal(tool("cleanCase", "-dry-run -case " OUT "/alias", bin_dir()), 0);
-    assert_non_null(strstr(output, "Warning: cleanCase: -dry-run is an old spelling: use -dryRun\n"));
+    assert_non_null(
+        strstr(output, "Warning: cleanCase: -dry-run is an old spelling: use -dryRun\n"));
     assert_non_null(strstr(output, "would remove " OUT "/alias/0.1"));
     assert_true(exists(OUT "/alias/0.1")); /* a dry run still */
     assert_int_equal(tool("cleanCase", "-n " OUT "/alias", bin_dir()), 0);
@@ -908,9 +924,11 @@ static void test_app_unknown_did_you_mean(void **state)
 {
     (void)state;
     static const char *const bad[][3] = {
-        {"listTimes", "-latesttime", "listTimes: unknown option '-latesttime'; did you mean -latestTime?"},
+        {"listTimes", "-latesttime",
+         "listTimes: unknown option '-latesttime'; did you mean -latestTime?"},
         {"pcisph", "-quite", "pcisph: unknown option '-quite'; did you mean -quiet?"},
-        {"sweepCase", "-printjobs d", "sweepCase: unknown option '-printjobs'; did you mean -printJobs?"},
+        {"sweepCase", "-printjobs d",
+         "sweepCase: unknown option '-printjobs'; did you mean -printJobs?"},
         {"postProcess", "-hlep", "postProcess: unknown option '-hlep'; did you mean -help?"},
         {"cloneCase", "-frobnicate a b", "cloneCase: unknown option '-frobnicate'\n"},
     };
@@ -950,7 +968,8 @@ static void test_app_completion_words(void **state)
         const char *name = names;
         for (size_t k = 0; k < n; k++, name += strlen(name) + 1) {
             int known = 0;
-            for (size_t j = 0; j < sizeof kinds / sizeof *kinds; j++) known |= !strcmp(kind[k], kinds[j]);
+            for (size_t j = 0; j < sizeof kinds / sizeof *kinds; j++)
+                known |= !strcmp(kind[k], kinds[j]);
             if (!known) fail_msg("%s: %s has kind '%s'", program_names[p], name, kind[k]);
             help |= !strcmp(name, "-help");
         }
@@ -969,8 +988,9 @@ static void test_app_completion_words(void **state)
          "c cleanCase -d\nc listTimes -la\nc monitorCase -png " OUT "/complete/\n"
          "c sweepCase -print\ncomplete -p pcisph\n");
     assert_int_equal(run("PATH=%s:$PATH bash " OUT "/complete/try.sh", bin_dir()), 0);
-    assert_string_equal(output, "-dryRun\n-latestTime\n" OUT "/complete/a.png\n-printJobs\n"
-                                "complete -F _sluice_complete pcisph\n");
+    assert_string_equal(output,
+                        "-dryRun\n-latestTime\n" OUT "/complete/a.png\n-printJobs\n"
+                        "complete -F _sluice_complete pcisph\n");
 }
 
 int main(void)

@@ -21,10 +21,10 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 
-#define OUT "tests/output/validation"
-#define CASE OUT "/case"
-#define CSV OUT "/exp.csv"
-#define TABLE CASE "/postProcessing/compareExperiment/table.csv"
+#define OUT     "tests/output/validation"
+#define CASE    OUT "/case"
+#define CSV     OUT "/exp.csv"
+#define TABLE   CASE "/postProcessing/compareExperiment/table.csv"
 #define SUMMARY CASE "/postProcessing/compareExperiment/summary.dat"
 
 /* compareExperiment with arguments. */
@@ -227,9 +227,8 @@ static void test_window_and_filter_options(void **state)
 {
     (void)state;
     fresh_case();
-    assert_int_equal(compare("-case %s -data %s -noPlot -window 0.45:0.55 -filter 0", bin_dir(),
-                             CASE, CSV),
-                     0);
+    assert_int_equal(
+        compare("-case %s -data %s -noPlot -window 0.45:0.55 -filter 0", bin_dir(), CASE, CSV), 0);
     char *t = slurp(TABLE);
     /* in 0.45..0.55 the H1 error is -(t - 0.4) up to 0.5, then -0.1 */
     assert_float_equal(metric(t, "heights,H1,window_start"), 0.45, 1e-12);
@@ -261,8 +260,8 @@ static void test_normalised_columns(void **state)
          "  p { quantity pressure; functionObject probes; threshold 500; plateau (1.2 1.8);\n"
          "      P { data p_star; column pressure_0; } }\n"
          "}\n");
-    assert_int_equal(compare("-case %s -data %s -dict %s -noPlot", bin_dir(), CASE,
-                             OUT "/star.csv", OUT "/star.dict"),
+    assert_int_equal(compare("-case %s -data %s -dict %s -noPlot", bin_dir(), CASE, OUT "/star.csv",
+                             OUT "/star.dict"),
                      0);
     char *t = slurp(TABLE);
     /* h = max(0, 2t - 1) reaches 0.1 at t = 0.55 */
@@ -296,17 +295,17 @@ static void test_plots(void **state)
 
 /* |a - b| <= tol in double precision (cmocka's assert_float_equal compares
  * floats); NaN fails. */
-#define assert_near(a, b, tol)                                                              \
-    do {                                                                                    \
-        double a_ = (a), b_ = (b);                                                          \
-        if (!(fabs(a_ - b_) <= (tol)))                                                      \
-            fail_msg("%s = %.12g, expected %.12g +- %g", #a, a_, b_, (double)(tol));        \
+#define assert_near(a, b, tol)                                                       \
+    do {                                                                             \
+        double a_ = (a), b_ = (b);                                                   \
+        if (!(fabs(a_ - b_) <= (tol)))                                               \
+            fail_msg("%s = %.12g, expected %.12g +- %g", #a, a_, b_, (double)(tol)); \
     } while (0)
 
 enum { S_RMS, S_MAX, S_ARRIVAL, S_ARRIVAL_MAX, S_PLATEAU, S_PEAK, S_NH, S_NP, S_N };
-static const char *const summary_column[S_N] = {
-    "heightRms",    "heightMaxAbs", "arrivalError", "arrivalErrorMax",
-    "plateauError", "peakError",    "nHeights",     "nPressures"};
+static const char *const summary_column[S_N] = {"heightRms",       "heightMaxAbs", "arrivalError",
+                                                "arrivalErrorMax", "plateauError", "peakError",
+                                                "nHeights",        "nPressures"};
 
 /* summary.dat read as sweepCase reads a result (cf_table_read: the last
  * '#' line names the columns): exactly these columns, one row. */
@@ -363,8 +362,9 @@ static void test_summary(void **state)
     assert_near(v[S_NP], 2, 0);
     free(t);
     /* printed after the table, too */
-    assert_non_null(strstr(output, "# heightRms\theightMaxAbs\tarrivalError\tarrivalErrorMax\t"
-                                   "plateauError\tpeakError\tnHeights\tnPressures\n"));
+    assert_non_null(strstr(output,
+                           "# heightRms\theightMaxAbs\tarrivalError\tarrivalErrorMax\t"
+                           "plateauError\tpeakError\tnHeights\tnPressures\n"));
     assert_non_null(strstr(output, "\t2\t2\n"));
     /* the comment lines say what went in */
     char *s = slurp(SUMMARY);

@@ -17,7 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define OUT "tests/output/verification"
+#define OUT   "tests/output/verification"
 #define CASES "cases/verification"
 
 /* Copy <case>/base to OUT/<name>, set particleSpacing r0 and deltaT dt and
@@ -173,11 +173,12 @@ static void test_spheric_front_threshold(void **state)
                          "gaugeLocations ((1.488 0.5)); threshold 0.3; }' && "
                          "$E system/controlDict -entry functions/g1 -set '{ type waterGauges; "
                          "gaugeLocations ((1.488 0.5)); threshold 0.1; }'",
-                         c, b, c, c, b), 0);
+                         c, b, c, c, b),
+                     0);
     assert_int_equal(run("%s/pcisph -case %s > %s/log.pcisph 2>&1", b, c, c), 0);
     const double t5 = arrival("gauges", 3), t3 = arrival("g3", 1), t1 = arrival("g1", 1);
-    print_message("H3 arrival at colour 0.5, 0.3, 0.1: %.4f %.4f %.4f s (experiment 0.218 s)\n",
-                  t5, t3, t1);
+    print_message("H3 arrival at colour 0.5, 0.3, 0.1: %.4f %.4f %.4f s (experiment 0.218 s)\n", t5,
+                  t3, t1);
     assert_true(isfinite(t5) && isfinite(t3) && isfinite(t1));
     assert_true(t1 <= t3 + 1e-9 && t3 <= t5 + 1e-9);
     assert_true(t5 - t1 < 0.02);
@@ -192,8 +193,10 @@ static void test_verify_case_refusals(void **state)
     const char *b = bin_dir();
     const char *c = OUT "/translatingTank_0.01";
     /* no verifyDict */
-    assert_int_equal(run("rm -rf " OUT "/bad && %s/cloneCase %s " OUT "/bad && rm "
-                         OUT "/bad/system/verifyDict", b, c), 0);
+    assert_int_equal(run("rm -rf " OUT "/bad && %s/cloneCase %s " OUT "/bad && rm " OUT
+                         "/bad/system/verifyDict",
+                         b, c),
+                     0);
     assert_int_not_equal(run("%s/verifyCase -case " OUT "/bad", b), 0);
     assert_non_null(strstr(output, "verifyDict"));
     /* no written time */
@@ -201,20 +204,22 @@ static void test_verify_case_refusals(void **state)
     assert_int_not_equal(run("%s/verifyCase -case " OUT "/bad", b), 0);
     assert_non_null(strstr(output, "no written time"));
     /* a misspelt answer: file, line, keyword and the nearest name */
-    assert_int_equal(run("%s/editDictionary %s/system/verifyDict -entry exact -set hydrostatc",
-                         b, c), 0);
+    assert_int_equal(
+        run("%s/editDictionary %s/system/verifyDict -entry exact -set hydrostatc", b, c), 0);
     assert_int_not_equal(run("%s/verifyCase -case %s", b, c), 0);
     assert_non_null(strstr(output, "verifyDict:"));
     assert_non_null(strstr(output, "hydrostatic"));
     /* an answer that needs what the case does not have */
-    assert_int_equal(run("%s/editDictionary %s/system/verifyDict -entry exact -set poiseuille",
-                         b, c), 0);
+    assert_int_equal(
+        run("%s/editDictionary %s/system/verifyDict -entry exact -set poiseuille", b, c), 0);
     assert_int_not_equal(run("%s/verifyCase -case %s", b, c), 0);
     assert_non_null(strstr(output, "nu"));
     /* above the tolerance: exit 1 and say so */
     assert_int_equal(run("%s/editDictionary %s/system/verifyDict -entry exact -set "
                          "translatingTank && %s/editDictionary %s/system/verifyDict -entry "
-                         "tolerance -set 1e-6", b, c, b, c), 0);
+                         "tolerance -set 1e-6",
+                         b, c, b, c),
+                     0);
     assert_int_equal(run("%s/verifyCase -case %s", b, c), 1);
     assert_non_null(strstr(output, "above the tolerance"));
 }
@@ -228,13 +233,15 @@ static void test_velocity_field_refusals(void **state)
     const char *c = OUT "/badField";
     assert_int_equal(run("rm -rf %s && %s/cloneCase " CASES "/taylorGreen/base %s && sed -i "
                          "'s/type taylorGreen;/type taylorGren;/' %s/constant/fluidProperties",
-                         c, b, c, c), 0);
+                         c, b, c, c),
+                     0);
     assert_int_not_equal(run("%s/pcisph -case %s", b, c), 0);
     assert_non_null(strstr(output, "fluidProperties:"));
     assert_non_null(strstr(output, "'taylorGren' is not one of: taylorGreen standingWave"));
     assert_int_equal(run("sed -i 's/type taylorGren; amplitude 0.1; length 0.1;/type "
                          "taylorGreen; amplitude 0.1; length -1;/' %s/constant/fluidProperties",
-                         c), 0);
+                         c),
+                     0);
     assert_int_not_equal(run("%s/pcisph -case %s", b, c), 0);
     assert_non_null(strstr(output, "keyword 'length': must be a positive number"));
     assert_int_not_equal(run("test -e %s/0", c), 0); /* nothing written */

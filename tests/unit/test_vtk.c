@@ -116,8 +116,8 @@ typedef struct rb_array {
     char *name, *type;
     int ncomp;
     size_t ntuples;
-    double *d;     /* values of float arrays (exact: read from hex floats) */
-    long long *i;  /* values of integer arrays */
+    double *d;    /* values of float arrays (exact: read from hex floats) */
+    long long *i; /* values of integer arrays */
 } rb_array;
 
 typedef struct rb_grid {
@@ -171,10 +171,8 @@ static void rb_read_array(FILE *p, const char *head, rb_array *a, char **buf, si
         char *s = rb_line(p, buf, cap), *end;
         for (int k = 0; k < a->ncomp; k++, s = end) {
             size_t at = t * (size_t)a->ncomp + (size_t)k;
-            if (a->type[0] == 'F')
-                a->d[at] = strtod(s, &end);
-            else
-                a->i[at] = strtoll(s, &end, 10);
+            if (a->type[0] == 'F') a->d[at] = strtod(s, &end);
+            else a->i[at] = strtoll(s, &end, 10);
             if (end == s) fail_msg("array %s tuple %zu: too few values", a->name, t);
         }
     }
@@ -216,7 +214,8 @@ static void rb_read_vtu(const char *path, rb_grid *g)
             fail_msg("bad read-back line '%s'", line);
         }
     }
-    if ((long long)ncell != g->ncells) fail_msg("%s: %zu cells listed of %lld", path, ncell, g->ncells);
+    if ((long long)ncell != g->ncells)
+        fail_msg("%s: %zu cells listed of %lld", path, ncell, g->ncells);
     free(buf);
     rb_close(p, path);
 }
@@ -311,13 +310,17 @@ static int check_value(const vtk_field *f, int k, size_t i, const rb_array *a, s
         snprintf(msg, len, "%a vs %a", (double)want, a->d[idx]);
         return memcmp(&got, &want, sizeof got) == 0 && (double)got == a->d[idx];
     }
-    case VTK_INT32: snprintf(msg, len, "%d vs %lld", ((const int32_t *)c)[i], a->i[idx]);
+    case VTK_INT32:
+        snprintf(msg, len, "%d vs %lld", ((const int32_t *)c)[i], a->i[idx]);
         return ((const int32_t *)c)[i] == a->i[idx];
-    case VTK_UINT32: snprintf(msg, len, "%u vs %lld", ((const uint32_t *)c)[i], a->i[idx]);
+    case VTK_UINT32:
+        snprintf(msg, len, "%u vs %lld", ((const uint32_t *)c)[i], a->i[idx]);
         return ((const uint32_t *)c)[i] == a->i[idx];
-    case VTK_INT64: snprintf(msg, len, "%lld vs %lld", (long long)((const int64_t *)c)[i], a->i[idx]);
+    case VTK_INT64:
+        snprintf(msg, len, "%lld vs %lld", (long long)((const int64_t *)c)[i], a->i[idx]);
         return ((const int64_t *)c)[i] == a->i[idx];
-    case VTK_UINT8: snprintf(msg, len, "%u vs %lld", ((const uint8_t *)c)[i], a->i[idx]);
+    case VTK_UINT8:
+        snprintf(msg, len, "%u vs %lld", ((const uint8_t *)c)[i], a->i[idx]);
         return ((const uint8_t *)c)[i] == a->i[idx];
     }
     return 0;
@@ -401,8 +404,15 @@ static void dataset_make(dataset *d, size_t n)
     memset(d, 0, sizeof *d);
     d->n = n;
 #define DS_ALLOC(p) (p) = sl_calloc(n + 1, sizeof *(p), "test data")
-    DS_ALLOC(d->x); DS_ALLOC(d->y); DS_ALLOC(d->z); DS_ALLOC(d->rho); DS_ALLOC(d->mass);
-    DS_ALLOC(d->id); DS_ALLOC(d->uid); DS_ALLOC(d->big); DS_ALLOC(d->flag);
+    DS_ALLOC(d->x);
+    DS_ALLOC(d->y);
+    DS_ALLOC(d->z);
+    DS_ALLOC(d->rho);
+    DS_ALLOC(d->mass);
+    DS_ALLOC(d->id);
+    DS_ALLOC(d->uid);
+    DS_ALLOC(d->big);
+    DS_ALLOC(d->flag);
     for (int k = 0; k < 3; k++) {
         DS_ALLOC(d->vel[k]);
         DS_ALLOC(d->acc[k]);
@@ -421,8 +431,15 @@ static void dataset_make(dataset *d, size_t n)
 
 static void dataset_free(dataset *d)
 {
-    free(d->x); free(d->y); free(d->z); free(d->rho); free(d->mass);
-    free(d->id); free(d->uid); free(d->big); free(d->flag);
+    free(d->x);
+    free(d->y);
+    free(d->z);
+    free(d->rho);
+    free(d->mass);
+    free(d->id);
+    free(d->uid);
+    free(d->big);
+    free(d->flag);
     for (int k = 0; k < 3; k++) {
         free(d->vel[k]);
         free(d->acc[k]);
@@ -507,12 +524,21 @@ static void test_tdir_name(void **state)
         int prec;
         const char *name;
     } cases[] = {
-        {0, 6, "0"},          {0.05, 6, "0.05"},   {1, 6, "1"},
-        {0.1, 6, "0.1"},      {1e-05, 6, "1e-05"}, {2.5, 6, "2.5"},
-        {0.30000000000000004, 6, "0.3"},           {0.1 + 0.2, 0, "0.3"},
-        {123.456789, 6, "123.457"},                {123.456789, 9, "123.456789"},
-        {1e6, 6, "1e+06"},    {100, 6, "100"},     {0.000123, 6, "0.000123"},
-        {1.0 / 3.0, 3, "0.333"}, {2.0 / 3.0, 17, "0.66666666666666663"},
+        {0, 6, "0"},
+        {0.05, 6, "0.05"},
+        {1, 6, "1"},
+        {0.1, 6, "0.1"},
+        {1e-05, 6, "1e-05"},
+        {2.5, 6, "2.5"},
+        {0.30000000000000004, 6, "0.3"},
+        {0.1 + 0.2, 0, "0.3"},
+        {123.456789, 6, "123.457"},
+        {123.456789, 9, "123.456789"},
+        {1e6, 6, "1e+06"},
+        {100, 6, "100"},
+        {0.000123, 6, "0.000123"},
+        {1.0 / 3.0, 3, "0.333"},
+        {2.0 / 3.0, 17, "0.66666666666666663"},
     };
     char buf[32];
     (void)state;
@@ -549,10 +575,10 @@ static void test_tdir_mkdirs(void **state)
 
 static void test_tdir_list(void **state)
 {
-    static const char *const dirs[] = {"0",      "0.05",  "1",        "1e-05",  "0.1",
-                                       "10",     "2.5",   "constant", "system", "postProcessing",
-                                       ".0.2",   "abc",   "0.1.tmp.123", "0.3",  "nan",
-                                       "1e-3x",  "0x10",  ".5"};
+    static const char *const dirs[] = {"0",     "0.05", "1",           "1e-05",  "0.1",
+                                       "10",    "2.5",  "constant",    "system", "postProcessing",
+                                       ".0.2",  "abc",  "0.1.tmp.123", "0.3",    "nan",
+                                       "1e-3x", "0x10", ".5"};
     static const char *const want[] = {"0", "1e-05", "0.05", "0.1", "1", "2.5", "10"};
     sl_err err = {""};
     tdir_list l;
@@ -856,8 +882,8 @@ static void check_index(const char *mode, const char *path, const double *t,
 static void test_vtk_collection(void **state)
 {
     static const double t[] = {0, 1e-05, 0.05, 0.1, 0.30000000000000004, 1, 12345.678};
-    static const char *const f[] = {"0/fluid.vtu",   "1e-05/fluid.vtu", "0.05/fluid.vtu",
-                                    "0.1/fluid.vtu", "0.3/a&b<\"'>.vtu", "1/fluid.vtu",
+    static const char *const f[] = {"0/fluid.vtu",         "1e-05/fluid.vtu",  "0.05/fluid.vtu",
+                                    "0.1/fluid.vtu",       "0.3/a&b<\"'>.vtu", "1/fluid.vtu",
                                     "12345.7/fluid\\x.vtu"};
     char *pvd = tpath("fluid.pvd"), *series = tpath("fluid.vtu.series"), *text;
     sl_err err = {""};

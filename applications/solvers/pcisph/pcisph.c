@@ -55,18 +55,18 @@
 /* What a run did, for the End summary: kept for this session and, in
  * the restart file, for the whole run. */
 typedef struct run_totals {
-    long steps;               /* steps computed, those a shock discarded included */
+    long steps; /* steps computed, those a shock discarded included */
     long shocks;
-    double iterations;        /* over the steps computed */
-    long at_max_iter;         /* stopped at maxIterations with rho_err max above eta */
-    long by_guard;            /* stopped by the divergence guard with rho_err max above eta */
+    double iterations; /* over the steps computed */
+    long at_max_iter;  /* stopped at maxIterations with rho_err max above eta */
+    long by_guard;     /* stopped by the divergence guard with rho_err max above eta */
     int guard_iter_min, guard_iter_max;
-    double dt_min, dt_max;    /* of the steps taken (after evening out for writes) */
+    double dt_min, dt_max; /* of the steps taken (after evening out for writes) */
     double max_err_avg, max_err_max;
-    double active_ratio;      /* sum over accepted steps of active boundary / fluid */
+    double active_ratio; /* sum over accepted steps of active boundary / fluid */
     long accepted;
-    double wall;              /* seconds in the time loop */
-    double t_first;           /* time the run started from */
+    double wall;    /* seconds in the time loop */
+    double t_first; /* time the run started from */
     long sessions;
 } run_totals;
 
@@ -74,10 +74,10 @@ typedef struct run_totals {
  * keeps it (with the effects' saved states after it), so that a restarted run
  * takes exactly the steps an uninterrupted one takes. */
 typedef struct run_state {
-    ts_state ctl;             /* the controller (its exact dt) */
-    double origin;            /* write times are origin + k writeInterval */
-    run_totals total;         /* the whole run up to this state */
-    int have_prev;            /* the state at the start of the step before is kept */
+    ts_state ctl;     /* the controller (its exact dt) */
+    double origin;    /* write times are origin + k writeInterval */
+    run_totals total; /* the whole run up to this state */
+    int have_prev;    /* the state at the start of the step before is kept */
     ts_state ctl_prev;
 } run_state;
 
@@ -89,19 +89,19 @@ typedef struct run {
     case_lock lock;
     sl_progress prog;
     ts_state ctl;
-    pcs_history hist;          /* the state at the start of the last two steps */
-    pcs_snapshot wsnap;        /* state written with each time directory (reused) */
+    pcs_history hist;   /* the state at the start of the last two steps */
+    pcs_snapshot wsnap; /* state written with each time directory (reused) */
     size_t eff_size;
-    unsigned char *blob;       /* run_state + the effects' states for restart files */
+    unsigned char *blob; /* run_state + the effects' states for restart files */
     size_t blob_size;
     double t, t_end, next_write, last_write, origin;
     long step;
     int quiet, resume, parallel;
-    int root;                  /* rank 0 (or serial): writes and logs */
+    int root;                   /* rank 0 (or serial): writes and logs */
     run_totals session, before; /* this session; the run before it (restart) */
     double wall0;
-    double write_wall;         /* seconds spent writing time directories */
-    double cpu0, write_cpu;    /* process CPU seconds: at the loop's start, in writing */
+    double write_wall;      /* seconds spent writing time directories */
+    double cpu0, write_cpu; /* process CPU seconds: at the loop's start, in writing */
 } run;
 
 static volatile sig_atomic_t stop_requested, write_requested;
@@ -146,8 +146,8 @@ static void print_world(const run *r, const char *dt_rule)
     const pcs_solver *s = &r->s;
     sl_info("Case %s", c->dir);
     sl_info("  fluid particles     %zu", c->fluid.n);
-    sl_info("  boundary particles  %zu (%zu shapes, method %s)", c->boundary.n - c->boundary.nimages,
-            c->nshapes, c->prm.method->name);
+    sl_info("  boundary particles  %zu (%zu shapes, method %s)",
+            c->boundary.n - c->boundary.nimages, c->nshapes, c->prm.method->name);
     if (c->prm.periodic.axes) {
         char ax[8];
         dom_periodic_axes_text(c->prm.periodic.axes, ax, sizeof ax);
@@ -159,8 +159,8 @@ static void print_world(const run *r, const char *dt_rule)
     sl_info("  boundary mass       gamma %.6f (Akinci volume x gamma), static density factor %.6f",
             s->cal.gamma, s->cal.c_static);
     sl_info("  time step           %s%s: deltaT %g s (%s), delta %.6g (eq. 4)",
-            ts_mode_name(c->ts.mode), ts_is_cost(&c->ts) ? ", controller cost" : "", s->dt,
-            dt_rule, s->delta);
+            ts_mode_name(c->ts.mode), ts_is_cost(&c->ts) ? ", controller cost" : "", s->dt, dt_rule,
+            s->delta);
     sl_info("  eta                 %g %% of rho0 (eta_max %g %%), iterations %d..%d",
             100 * c->prm.eta, 100 * ts_eta_max(&c->ts, c->prm.eta), c->prm.min_iter,
             c->prm.max_iter);
@@ -173,7 +173,8 @@ static void print_world(const run *r, const char *dt_rule)
     sl_info("  threads             %d", omp_get_max_threads());
     if (r->parallel)
         sl_info("  ranks               %d (MPI; replicated state, the pressure solve's rows "
-                "shared out: doc/parallel.md)", par_size());
+                "shared out: doc/parallel.md)",
+                par_size());
 }
 
 /* The status line: simulated time against endTime, steps per second. */
@@ -205,8 +206,10 @@ static run_totals totals_add(const run_totals *a, const run_totals *b)
     t.at_max_iter += b->at_max_iter;
     t.by_guard += b->by_guard;
     t.guard_iter_min = b->by_guard && (!a->by_guard || b->guard_iter_min < a->guard_iter_min)
-                           ? b->guard_iter_min : a->guard_iter_min;
-    t.guard_iter_max = b->guard_iter_max > a->guard_iter_max ? b->guard_iter_max : a->guard_iter_max;
+        ? b->guard_iter_min
+        : a->guard_iter_min;
+    t.guard_iter_max =
+        b->guard_iter_max > a->guard_iter_max ? b->guard_iter_max : a->guard_iter_max;
     t.dt_min = fmin(a->dt_min, b->dt_min);
     t.dt_max = fmax(a->dt_max, b->dt_max);
     t.max_err_avg = fmax(a->max_err_avg, b->max_err_avg);
@@ -304,15 +307,21 @@ static void restart_refused(const run *r, const tdir_list *l, rst_status st, con
     const char *name = l->name[l->n - 1];
     char advice[1024];
     if (st == RST_DAMAGED && l->n > 1)
-        snprintf(advice, sizeof advice, "the time directory %s cannot be continued: remove it "
+        snprintf(advice, sizeof advice,
+                 "the time directory %s cannot be continued: remove it "
                  "(listTimes -case %s -time %s -rm) to restart from %s, the one before it, or "
-                 "set startFrom startTime to start again", name, r->c.dir, name, l->name[l->n - 2]);
+                 "set startFrom startTime to start again",
+                 name, r->c.dir, name, l->name[l->n - 2]);
     else if (st == RST_DAMAGED)
-        snprintf(advice, sizeof advice, "the time directory %s cannot be continued: set "
-                 "startFrom startTime to start again", name);
+        snprintf(advice, sizeof advice,
+                 "the time directory %s cannot be continued: set "
+                 "startFrom startTime to start again",
+                 name);
     else
-        snprintf(advice, sizeof advice, "to continue from %s, use the Sluice that wrote it "
-                 "with the same case; or set startFrom startTime to start again", name);
+        snprintf(advice, sizeof advice,
+                 "to continue from %s, use the Sluice that wrote it "
+                 "with the same case; or set startFrom startTime to start again",
+                 name);
     sl_fatal("%s: %s", err->msg, advice);
 }
 
@@ -380,8 +389,8 @@ static void fail_with_last_good(run *r, const char *why)
     sl_fatal("%s at t = %.9g; last good state written to %s/%s", why, r->t, r->c.dir, name);
 }
 
-static void log_step(const run *r, const pcs_stats *st, double step, ts_action a,
-                     unsigned crit, double wall)
+static void log_step(const run *r, const pcs_stats *st, double step, ts_action a, unsigned crit,
+                     double wall)
 {
     if (r->quiet) return;
     char why[256] = "";
@@ -390,8 +399,8 @@ static void log_step(const run *r, const pcs_stats *st, double step, ts_action a
     sl_info("Time = %-10.6g deltaT = %-9.4g iter %2d  rho_err avg %.3f%% max %.3f%% "
             "(before %.3f%% / %.3f%%)  vmax %.3g  Fmax %.3g  boundary %zu  %.3f s%s%s%s",
             r->t, step, st->iterations, 100 * st->err_avg, 100 * st->err_max,
-            100 * st->err_avg_before, 100 * st->err_max_before, st->vmax, st->fmax,
-            st->nactive, wall, shock ? "  SHOCK " : "", why, shock ? ": back two steps" : "");
+            100 * st->err_avg_before, 100 * st->err_max_before, st->vmax, st->fmax, st->nactive,
+            wall, shock ? "  SHOCK " : "", why, shock ? ": back two steps" : "");
 }
 
 
@@ -505,8 +514,9 @@ static void advance(run *r)
     double wall = omp_get_wtime() - ws;
     r->t = t_after;
     r->step++;
-    ts_obs o = {st.err_avg, st.err_max, st.vmax, st.fmax, st.converged,
-                r->c.prm.max_iter > r->c.prm.min_iter, st.iterations};
+    ts_obs o = {st.err_avg,   st.err_max,   st.vmax,
+                st.fmax,      st.converged, r->c.prm.max_iter > r->c.prm.min_iter,
+                st.iterations};
     unsigned crit = 0;
     ts_action a = ts_update(&r->c.ts, &r->ctl, r->c.prm.eta, r->s.h, &o, &crit);
     const int shock = a == TS_SHOCK || a == TS_SHOCK_STORM;
@@ -564,8 +574,8 @@ static void summary_totals(const char *label, const run_totals *n, double t_from
 static void summary_unconverged(const run *r, const run_totals *n)
 {
     if (n->at_max_iter)
-        sl_info("  %ld steps stopped at maxIterations %d with rho_err max above eta", n->at_max_iter,
-                r->c.prm.max_iter);
+        sl_info("  %ld steps stopped at maxIterations %d with rho_err max above eta",
+                n->at_max_iter, r->c.prm.max_iter);
     if (n->by_guard)
         sl_info("  %ld steps stopped by the divergence guard (the error grew; the best "
                 "iteration kept) after %d-%d of %d iterations, rho_err max above eta",
@@ -588,26 +598,26 @@ static void summary_parallel(const run *r, double wall)
     const double steps = r->session.steps > 0 ? (double)r->session.steps : 1.0;
     const double searches = sp->steps > 0 ? (double)sp->steps : 1.0;
     sl_info("  parallel: %d ranks x %d threads; fluid rows per rank min %zu, max %zu (mean over "
-            "searches %.0f / %.0f; %ld of %ld searches left a rank without fluid)", sp->size,
-            omp_get_max_threads(), sp->rows_min, sp->rows_max, sp->rows_min_sum / searches,
-            sp->rows_max_sum / searches, sp->empty, sp->steps);
+            "searches %.0f / %.0f; %ld of %ld searches left a rank without fluid)",
+            sp->size, omp_get_max_threads(), sp->rows_min, sp->rows_max,
+            sp->rows_min_sum / searches, sp->rows_max_sum / searches, sp->empty, sp->steps);
     if (sp->size > 1)
         sl_info("  parallel: particles that changed rank between searches: %ld to a higher rank, "
-                "%ld to a lower one (%.1f per search)", sp->moved_up, sp->moved_down,
-                (double)(sp->moved_up + sp->moved_down) / searches);
-    if (sp->size == 1)
-        sl_info("  parallel: one rank, nothing exchanged");
+                "%ld to a lower one (%.1f per search)",
+                sp->moved_up, sp->moved_down, (double)(sp->moved_up + sp->moved_down) / searches);
+    if (sp->size == 1) sl_info("  parallel: one rank, nothing exchanged");
     else if (sp->halo)
         sl_info("  parallel: halo mode: each PCISPH iteration exchanges x*, p/rho^2 and rho of the "
                 "halo only (rows received per rank: %zu at the last search, mean %.0f, largest "
-                "%zu); the state is gathered once per step", sp->halo_rows,
-                sp->halo_sum / searches, sp->halo_max);
+                "%zu); the state is gathered once per step",
+                sp->halo_rows, sp->halo_sum / searches, sp->halo_max);
     else
         sl_info("  parallel: gather mode: each PCISPH iteration gathers every rank's rows on "
                 "every rank (SLUICE_PARALLEL_EXCHANGE=gather)");
     sl_info("  parallel: exchanges %.2f-%.2f s of the %.2f s time loop (%.1f %% at most, waiting "
             "included); per step %.1f collectives, %.1f messages and %.3g bytes received by "
-            "rank 0", comm_min, comm_max, wall, wall > 0 ? 100 * comm_max / wall : 0.0,
+            "rank 0",
+            comm_min, comm_max, wall, wall > 0 ? 100 * comm_max / wall : 0.0,
             (double)pc.calls / steps, (double)pc.messages / steps, pc.bytes / steps);
 }
 
@@ -618,7 +628,7 @@ static void summary(run *r)
     run_totals *n = &r->session;
     double wall = omp_get_wtime() - r->wall0;
     double phases = tm->world + tm->search + tm->forces + tm->predict + tm->density + tm->pressure +
-                    tm->integrate;
+        tm->integrate;
     n->wall = wall;
     const int restarted = r->before.steps > 0;
     summary_totals(restarted ? "End: this session: " : "End: ", n, r->c.ctl.start_time, r->t);
@@ -632,10 +642,11 @@ static void summary(run *r)
             "%ld increases, %ld decreases); active boundary particles per fluid particle %.1f %%",
             n->dt_min, n->dt_max, c->dt_min, c->dt_max, c->increase, c->decrease,
             n->accepted ? 100 * n->active_ratio / (double)n->accepted : 0.0);
-    sl_info("  phases: moving world %.2f s, search %.2f s, forces %.2f s, predict+collision %.2f s, "
-            "density %.2f s, pressure force %.2f s, integrate %.2f s, output+other %.2f s",
-            tm->world, tm->search, tm->forces, tm->predict, tm->density, tm->pressure,
-            tm->integrate, wall - phases);
+    sl_info(
+        "  phases: moving world %.2f s, search %.2f s, forces %.2f s, predict+collision %.2f s, "
+        "density %.2f s, pressure force %.2f s, integrate %.2f s, output+other %.2f s",
+        tm->world, tm->search, tm->forces, tm->predict, tm->density, tm->pressure, tm->integrate,
+        wall - phases);
     sl_info("  search: sort %.2f s, fluid lists %.2f s, boundary lists %.2f s", tm->sort,
             tm->list_ff, tm->list_bf);
     for (size_t k = 0; k < r->c.effects.n; k++) {
@@ -763,7 +774,7 @@ int main(int argc, char **argv)
     if (r.root) rec_open(&r.rec, &r.c, start_name);
     if (!restarted) write_time(&r);
     const pcs_view view = pcs_view_of(&r.s); /* what the function objects read */
-    if (!r.root) { /* the function objects' files are rank 0's */
+    if (!r.root) {                           /* the function objects' files are rank 0's */
         fo_free(fo);
         fo = NULL;
     }

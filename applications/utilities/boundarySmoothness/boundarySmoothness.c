@@ -47,13 +47,13 @@
 
 typedef struct smooth {
     double time;
-    size_t n;            /* fluid particles */
-    size_t near;         /* within h of a wall */
-    size_t zero;         /* of them with p = 0 */
-    double median, p99;  /* of the near-wall pressures p > 0, Pa */
-    double ratio;        /* p99 / median */
-    size_t stacked;      /* closer than r0 / 2 to a wall */
-    double dmin;         /* smallest distance of a fluid particle to a wall, m */
+    size_t n;           /* fluid particles */
+    size_t near;        /* within h of a wall */
+    size_t zero;        /* of them with p = 0 */
+    double median, p99; /* of the near-wall pressures p > 0, Pa */
+    double ratio;       /* p99 / median */
+    size_t stacked;     /* closer than r0 / 2 to a wall */
+    double dmin;        /* smallest distance of a fluid particle to a wall, m */
 } smooth;
 
 static const app_option options[] = {
@@ -166,19 +166,19 @@ static void all_times(const sl_case *c, const char *dir, const tdir_list *l)
     afile a;
     FILE *f;
     if (tdir_mkdirs(out, &err) || !(f = afile_open(&a, path, &err))) sl_fatal("%s", err.msg);
-    fprintf(f, "# Near-wall smoothness (boundarySmoothness): fluid particles within h = %g m of "
-               "a wall\n# pressureRatio: 99th percentile / median of their pressures p > 0; stacked: "
-               "particles closer than r0/2 = %g m to a wall\n"
-               "# Time\tnearWall\tzeroPressure\tpressureMedian\tpressureP99\tpressureRatio\tstacked\n",
+    fprintf(f,
+            "# Near-wall smoothness (boundarySmoothness): fluid particles within h = %g m of "
+            "a wall\n# pressureRatio: 99th percentile / median of their pressures p > 0; stacked: "
+            "particles closer than r0/2 = %g m to a wall\n"
+            "# Time\tnearWall\tzeroPressure\tpressureMedian\tpressureP99\tpressureRatio\tstacked\n",
             2.0 * c->prm.r0, 0.5 * c->prm.r0);
     double rsum = 0.0, rmax = -INFINITY, ssum = 0.0;
     size_t rn = 0, smax = 0;
     for (size_t k = 0; k < l->n; k++) {
         char *vtu = vtu_of(dir, l->name[k]);
         smooth m = measure(c, vtu);
-        fprintf(f, "%.9g\t%zu\t%zu\t%.6g\t%.6g\t%.6g\t%zu\n", l->time[k], m.near, m.zero,
-                m.median, m.p99,
-                m.ratio, m.stacked);
+        fprintf(f, "%.9g\t%zu\t%zu\t%.6g\t%.6g\t%.6g\t%zu\n", l->time[k], m.near, m.zero, m.median,
+                m.p99, m.ratio, m.stacked);
         if (isfinite(m.ratio)) {
             rsum += m.ratio;
             rn++;

@@ -27,10 +27,10 @@ static const app_option options[] = {
 static const app_info info = {
     .name = "cleanCase",
     .what = "Removes the results of a case: time directories, '*.tmp.*' folders and\n"
-    "files, collections (*.pvd, *.vtu.series), postProcessing/ and log.*.\n"
-    "A time directory 0 that holds input files is kept (only the solver's\n"
-    "fluid.vtu, boundary.vtu and uniform/ are removed from it).  Prints what\n"
-    "it removes.  The case may also be given as the argument.",
+            "files, collections (*.pvd, *.vtu.series), postProcessing/ and log.*.\n"
+            "A time directory 0 that holds input files is kept (only the solver's\n"
+            "fluid.vtu, boundary.vtu and uniform/ are removed from it).  Prints what\n"
+            "it removes.  The case may also be given as the argument.",
     .options = options,
     .args = "[<case>]",
     .max_args = 1,
@@ -68,13 +68,18 @@ static void clean_entry(const char *dir, const char *name)
 {
     char *path = cf_join(dir, name);
     switch (cf_root_kind(dir, name)) {
-    case CF_TIME: clean_time(path, name); break;
+    case CF_TIME:
+        clean_time(path, name);
+        break;
     case CF_TMP:
     case CF_COLLECTION:
     case CF_LOG:
-    case CF_POSTPROCESSING: remove_path(path); break;
+    case CF_POSTPROCESSING:
+        remove_path(path);
+        break;
     case CF_INPUT:
-    case CF_HIDDEN: break;
+    case CF_HIDDEN:
+        break;
     }
     free(path);
 }

@@ -16,8 +16,7 @@
 #include <string.h>
 
 static const app_option options[] = {
-    {.name = "force", .help = "replace <new case> if it exists (it is removed first)"},
-    APP_END};
+    {.name = "force", .help = "replace <new case> if it exists (it is removed first)"}, APP_END};
 
 static const app_info info = {
     .name = "cloneCase",

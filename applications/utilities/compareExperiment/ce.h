@@ -71,10 +71,10 @@ void ce_series_free(ce_series *s);
 /* Every .dat file of postProcessing/<fo>/<startTime>/ of a case, the
  * start times in increasing order. */
 typedef struct ce_run {
-    char *dir;        /* <case>/postProcessing/<fo> */
+    char *dir; /* <case>/postProcessing/<fo> */
     size_t ntab;
     ce_table *tab;
-    double *start;    /* start time of each table's folder */
+    double *start; /* start time of each table's folder */
 } ce_run;
 
 /* Exits naming the folder when it is missing or holds no .dat file. */
@@ -107,12 +107,12 @@ double ce_peak(const ce_series *s, double a, double b, double *at);
 /* The simulation against the experiment at the experiment's times in
  * [a, b] (the simulation interpolated linearly with GSL), e = sim - exp. */
 typedef struct ce_error {
-    size_t n;       /* experimental samples compared */
-    double rms;     /* sqrt(mean e^2) */
-    double max;     /* max |e| */
-    double max_at;  /* its time */
-    double median;  /* median |e|: robust to a few spikes */
-    double bias;    /* mean e */
+    size_t n;      /* experimental samples compared */
+    double rms;    /* sqrt(mean e^2) */
+    double max;    /* max |e| */
+    double max_at; /* its time */
+    double median; /* median |e|: robust to a few spikes */
+    double bias;   /* mean e */
 } ce_error;
 void ce_compare(ce_error *e, const ce_series *sim, const ce_series *exp, double a, double b);
 /* Fraction of the experiment's samples in [a, b] at which the simulation
@@ -137,8 +137,8 @@ typedef struct ce_entry {
 typedef struct ce_group {
     char *name, *title;
     ce_kind kind;
-    char *fo;          /* function object: postProcessing/<fo>/ */
-    int summary;       /* counted in summary.dat ('summary', default yes) */
+    char *fo;    /* function object: postProcessing/<fo>/ */
+    int summary; /* counted in summary.dat ('summary', default yes) */
     ce_entry *e;
     size_t n;
 } ce_group;
@@ -166,18 +166,18 @@ double ce_value_scale(const ce_setup *s, ce_kind kind);
 typedef struct ce_result {
     const ce_group *g;
     const ce_entry *e;
-    const char *data_file;   /* where the experimental column came from */
-    ce_series sim, exp;      /* raw */
-    ce_series simf, expf;    /* filtered (pressures; copies for heights) */
-    ce_series lo, hi;        /* band, filtered like exp (n = 0: none) */
+    const char *data_file; /* where the experimental column came from */
+    ce_series sim, exp;    /* raw */
+    ce_series simf, expf;  /* filtered (pressures; copies for heights) */
+    ce_series lo, hi;      /* band, filtered like exp (n = 0: none) */
     ce_series lo_raw, hi_raw;
-    size_t sim_nan;          /* NaN rows of the run taken as 0 */
-    double window[2];        /* the window cut to both time ranges */
-    double t_sim, t_exp;     /* arrival (heights) / rise (pressures) */
-    ce_error err;            /* heights raw, pressures filtered */
+    size_t sim_nan;      /* NaN rows of the run taken as 0 */
+    double window[2];    /* the window cut to both time ranges */
+    double t_sim, t_exp; /* arrival (heights) / rise (pressures) */
+    ce_error err;        /* heights raw, pressures filtered */
     double plateau_sim, plateau_exp;
-    double peak_sim, peak_sim_at, peak_exp, peak_exp_at;         /* filtered */
-    double rpeak_sim, rpeak_sim_at, rpeak_exp, rpeak_exp_at;     /* raw */
+    double peak_sim, peak_sim_at, peak_exp, peak_exp_at;     /* filtered */
+    double rpeak_sim, rpeak_sim_at, rpeak_exp, rpeak_exp_at; /* raw */
     double band_peak[3], band_rpeak[3]; /* max of lo, data, hi (filtered; raw) */
     double inside;                      /* fraction of time inside the band */
 } ce_result;
@@ -193,14 +193,14 @@ void ce_report_write(const char *dir, const char *case_dir, const ce_setup *s,
 /* Means over the series of the groups with 'summary yes', from the same
  * numbers as table.csv; NaN where no series enters a mean. */
 typedef struct ce_summary {
-    double height_rms;   /* mean RMS error of the heights, m */
-    double height_max;   /* largest max |e| of the heights, m */
-    double arrival;      /* mean |arrival sim - exp|, s (both arrive, neither wet at t_0) */
-    double arrival_max;  /* largest of those, s */
-    double plateau;      /* mean |plateau sim - exp| / |plateau exp| */
-    double peak;         /* mean |filtered peak sim - exp| / filtered peak exp */
-    size_t nheight;      /* series in height_rms and height_max */
-    size_t npressure;    /* series in peak */
+    double height_rms;  /* mean RMS error of the heights, m */
+    double height_max;  /* largest max |e| of the heights, m */
+    double arrival;     /* mean |arrival sim - exp|, s (both arrive, neither wet at t_0) */
+    double arrival_max; /* largest of those, s */
+    double plateau;     /* mean |plateau sim - exp| / |plateau exp| */
+    double peak;        /* mean |filtered peak sim - exp| / filtered peak exp */
+    size_t nheight;     /* series in height_rms and height_max */
+    size_t npressure;   /* series in peak */
 } ce_summary;
 
 void ce_summary_compute(ce_summary *m, const ce_result *r, size_t n);
@@ -216,8 +216,8 @@ void ce_summary_write(const char *dir, const char *case_dir, const ce_setup *s,
 
 /* <dir>/<group>/ data files and <group>.gp, and <dir>/<group>.png through
  * gnuplot when plot is set.  Returns the number of plots made. */
-int ce_plot_group(const char *dir, const ce_group *g, const ce_result *r, size_t n,
-                  double filter, int plot);
+int ce_plot_group(const char *dir, const ce_group *g, const ce_result *r, size_t n, double filter,
+                  int plot);
 
 /* "a/b", allocated. */
 char *ce_join(const char *a, const char *b);

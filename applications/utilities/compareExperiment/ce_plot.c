@@ -54,21 +54,22 @@ static void write_script(FILE *f, const char *dir_name, const ce_group *g, const
                          size_t n, double filter, double x0, double x1)
 {
     const int p = g->kind == CE_PRESSURE;
-    fprintf(f, "# %s: simulation against experiment, written by compareExperiment (Sluice).\n"
-               "# Run again with: gnuplot %s.gp   (in this folder)\n"
-               "if (strstrt(GPVAL_TERMINALS, \"pngcairo\") > 0) {\n"
-               "    set terminal pngcairo size 900,%zu noenhanced font \",9\"\n"
-               "} else {\n"
-               "    set terminal png size 900,%zu noenhanced\n"
-               "}\n"
-               "set output \"%s.png\"\n"
-               "set multiplot layout %zu,1 title \"%s\"\n"
-               "set grid\n"
-               "set format x \"%%g\"\n"
-               "set key top right font \",8\" opaque box\n"
-               "set xrange [%g:%g]\n"
-               "set ylabel \"%s\"\n"
-               "set lmargin 10\n",
+    fprintf(f,
+            "# %s: simulation against experiment, written by compareExperiment (Sluice).\n"
+            "# Run again with: gnuplot %s.gp   (in this folder)\n"
+            "if (strstrt(GPVAL_TERMINALS, \"pngcairo\") > 0) {\n"
+            "    set terminal pngcairo size 900,%zu noenhanced font \",9\"\n"
+            "} else {\n"
+            "    set terminal png size 900,%zu noenhanced\n"
+            "}\n"
+            "set output \"%s.png\"\n"
+            "set multiplot layout %zu,1 title \"%s\"\n"
+            "set grid\n"
+            "set format x \"%%g\"\n"
+            "set key top right font \",8\" opaque box\n"
+            "set xrange [%g:%g]\n"
+            "set ylabel \"%s\"\n"
+            "set lmargin 10\n",
             g->name, g->name, 60 + 210 * n, 60 + 210 * n, g->name, n, g->title, x0, x1,
             p ? "pressure (Pa)" : "height (m)");
     for (size_t i = 0; i < n; i++) {
@@ -77,28 +78,31 @@ static void write_script(FILE *f, const char *dir_name, const ce_group *g, const
         fprintf(f, "set title \"%s: %s (exp) / %s (sim)\"\n", s, x->e->data, x->e->column);
         fputs(i + 1 == n ? "set xlabel \"t (s)\"\n" : "unset xlabel\n", f);
         if (!p) {
-            fprintf(f, "set yrange [*:*]\n"
-                       "plot \"%s/%s_exp.dat\" using 1:2 with lines lw 1.5 lc rgb \"black\" "
-                       "title \"experiment\", \\\n"
-                       "     \"%s/%s_sim.dat\" using 1:2 with lines lw 1.5 lc rgb \"#d62728\" "
-                       "title \"Sluice\"\n",
+            fprintf(f,
+                    "set yrange [*:*]\n"
+                    "plot \"%s/%s_exp.dat\" using 1:2 with lines lw 1.5 lc rgb \"black\" "
+                    "title \"experiment\", \\\n"
+                    "     \"%s/%s_sim.dat\" using 1:2 with lines lw 1.5 lc rgb \"#d62728\" "
+                    "title \"Sluice\"\n",
                     dir_name, s, dir_name, s);
             continue;
         }
         double top = panel_top(x, x0, x1);
         fprintf(f, "set yrange [%g:%g]\nplot ", -0.1 * top, 1.25 * top + 1.0);
         if (x->lo_raw.n)
-            fprintf(f, "\"%s/%s_exp.dat\" using 1:4:5 with filledcurves fc rgb \"#c6dbef\" "
-                       "fs solid 1.0 noborder title \"experimental band (%s-%s)\", \\\n     ",
+            fprintf(f,
+                    "\"%s/%s_exp.dat\" using 1:4:5 with filledcurves fc rgb \"#c6dbef\" "
+                    "fs solid 1.0 noborder title \"experimental band (%s-%s)\", \\\n     ",
                     dir_name, s, x->e->band[0], x->e->band[1]);
-        fprintf(f, "\"%s/%s_exp.dat\" using 1:2 with lines lc rgb \"#b0b0b0\" title "
-                   "\"experiment\", \\\n"
-                   "     \"%s/%s_sim.dat\" using 1:2 with lines lc rgb \"#f4b6b6\" title "
-                   "\"Sluice\", \\\n"
-                   "     \"%s/%s_exp.dat\" using 1:3 with lines lw 2 lc rgb \"black\" title "
-                   "\"experiment, filtered %g s\", \\\n"
-                   "     \"%s/%s_sim.dat\" using 1:3 with lines lw 2 lc rgb \"#d62728\" title "
-                   "\"Sluice, filtered %g s\"\n",
+        fprintf(f,
+                "\"%s/%s_exp.dat\" using 1:2 with lines lc rgb \"#b0b0b0\" title "
+                "\"experiment\", \\\n"
+                "     \"%s/%s_sim.dat\" using 1:2 with lines lc rgb \"#f4b6b6\" title "
+                "\"Sluice\", \\\n"
+                "     \"%s/%s_exp.dat\" using 1:3 with lines lw 2 lc rgb \"black\" title "
+                "\"experiment, filtered %g s\", \\\n"
+                "     \"%s/%s_sim.dat\" using 1:3 with lines lw 2 lc rgb \"#d62728\" title "
+                "\"Sluice, filtered %g s\"\n",
                 dir_name, s, dir_name, s, dir_name, s, filter, dir_name, s, filter);
     }
     fputs("unset multiplot\n", f);
@@ -115,8 +119,8 @@ static int run_gnuplot(const char *dir, const char *name)
     return 1;
 }
 
-int ce_plot_group(const char *dir, const ce_group *g, const ce_result *r, size_t n,
-                  double filter, int plot)
+int ce_plot_group(const char *dir, const ce_group *g, const ce_result *r, size_t n, double filter,
+                  int plot)
 {
     if (n == 0) return 0;
     /* x range: from the earliest window start (at least 0) to the end of the

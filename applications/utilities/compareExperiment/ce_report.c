@@ -20,8 +20,7 @@
 #include <string.h>
 
 /* [a, b] cut to the time ranges of both series. */
-static void common_window(double out[2], const double w[2], const ce_series *a,
-                          const ce_series *b)
+static void common_window(double out[2], const double w[2], const ce_series *a, const ce_series *b)
 {
     out[0] = fmax(w[0], fmax(a->t[0], b->t[0]));
     out[1] = fmin(w[1], fmin(a->t[a->n - 1], b->t[b->n - 1]));
@@ -106,12 +105,11 @@ static void md_heights(FILE *f, const ce_result *r, size_t n)
     for (size_t i = 0; i < n; i++) {
         const ce_result *x = &r[i];
         fprintf(f, "| %s | %g | %s | %s | %s | %s-%s | %s | %s | %s | %s | %s | %zu |\n",
-                x->e->name, x->e->threshold, num(b[0], 32, x->t_sim, 3),
-                num(b[1], 32, x->t_exp, 3), num(b[2], 32, x->t_sim - x->t_exp, 3),
-                num(b[3], 32, x->window[0], 2), num(b[4], 32, x->window[1], 2),
-                num(b[5], 32, x->err.rms, 4), num(b[6], 32, x->err.median, 4),
-                num(b[7], 32, x->err.max, 4), num(b[8], 32, x->err.max_at, 3),
-                num(b[9], 32, x->err.bias, 4), x->err.n);
+                x->e->name, x->e->threshold, num(b[0], 32, x->t_sim, 3), num(b[1], 32, x->t_exp, 3),
+                num(b[2], 32, x->t_sim - x->t_exp, 3), num(b[3], 32, x->window[0], 2),
+                num(b[4], 32, x->window[1], 2), num(b[5], 32, x->err.rms, 4),
+                num(b[6], 32, x->err.median, 4), num(b[7], 32, x->err.max, 4),
+                num(b[8], 32, x->err.max_at, 3), num(b[9], 32, x->err.bias, 4), x->err.n);
     }
 }
 
@@ -182,20 +180,21 @@ static void md_conventions(FILE *f, const ce_setup *s)
           "height 0.\n",
           f);
     if (s->filter > 0)
-        fprintf(f, "- Pressures of both sides are low-pass filtered by a centred moving average "
-                   "of width %g s (the time average of the piecewise-linear signal over "
-                   "[t - %g, t + %g] s, cut at the ends); ",
+        fprintf(f,
+                "- Pressures of both sides are low-pass filtered by a centred moving average "
+                "of width %g s (the time average of the piecewise-linear signal over "
+                "[t - %g, t + %g] s, cut at the ends); ",
                 s->filter, s->filter / 2, s->filter / 2);
-    else
-        fputs("- Pressures are not filtered; ", f);
+    else fputs("- Pressures are not filtered; ", f);
     fputs("the rise is the first time the filtered pressure exceeds the threshold; peaks and "
           "RMS errors are taken over the window; the plateau is the time average of the "
           "unfiltered pressure over the plateau window.  A probe with no particle within h "
           "(nan) counts as pressure 0 (gauge pressure).\n",
           f);
     if (s->normalised)
-        fprintf(f, "- The experimental columns are normalised; converted with H = %g m, rho = %g "
-                   "kg/m^3, g = %g m/s^2: t = t* sqrt(H/g), p = p* rho g H, h = h* H.\n",
+        fprintf(f,
+                "- The experimental columns are normalised; converted with H = %g m, rho = %g "
+                "kg/m^3, g = %g m/s^2: t = t* sqrt(H/g), p = p* rho g H, h = h* H.\n",
                 s->H, s->rho, s->g);
     if (s->time_shift != 0.0)
         fprintf(f, "- The experiment's times are shifted by %+g s.\n", s->time_shift);
@@ -206,8 +205,9 @@ static void write_md(const char *path, const char *case_dir, const ce_setup *s,
 {
     FILE *f = fopen(path, "w");
     if (!f) sl_fatal("cannot write '%s': %s", path, strerror(errno));
-    fprintf(f, "# Comparison with experiment: %s\n\nWritten by compareExperiment (Sluice) from "
-               "%s.\n\nExperimental data:\n\n",
+    fprintf(f,
+            "# Comparison with experiment: %s\n\nWritten by compareExperiment (Sluice) from "
+            "%s.\n\nExperimental data:\n\n",
             case_dir, s->path);
     for (size_t i = 0; i < ndata; i++) fprintf(f, "- %s\n", data[i]);
     fputc('\n', f);

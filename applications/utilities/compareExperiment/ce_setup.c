@@ -40,12 +40,12 @@
 #include <string.h>
 
 static const char *const top_keys[] = {"experiment", "filter", "groups", NULL};
-static const char *const exp_keys[] = {"normalised", "length", "density", "gravity", "timeShift",
-                                       NULL};
-static const char *const group_keys[] = {"quantity", "functionObject", "title", "threshold",
-                                         "window", "plateau", "summary", NULL};
-static const char *const entry_keys[] = {"data", "column", "band", "threshold", "window",
-                                         "plateau", NULL};
+static const char *const exp_keys[] = {"normalised", "length",    "density",
+                                       "gravity",    "timeShift", NULL};
+static const char *const group_keys[] = {"quantity", "functionObject", "title",   "threshold",
+                                         "window",   "plateau",        "summary", NULL};
+static const char *const entry_keys[] = {"data",   "column",  "band", "threshold",
+                                         "window", "plateau", NULL};
 
 static void need(int status, const sl_err *err) { dict_need(status, err); }
 

@@ -45,7 +45,7 @@ static int wet_at_start(const ce_series *s, double threshold)
 static int has_arrival(const ce_result *x)
 {
     return isfinite(x->t_sim) && isfinite(x->t_exp) && !wet_at_start(&x->simf, x->e->threshold) &&
-           !wet_at_start(&x->expf, x->e->threshold);
+        !wet_at_start(&x->expf, x->e->threshold);
 }
 
 static int has_height_error(const ce_result *x) { return isfinite(x->err.rms); }
@@ -168,9 +168,10 @@ static void write_comments(FILE *f, const char *case_dir, const ce_setup *s,
           "plateau exp| / |plateau exp| (time averages of the unfiltered pressure), fraction.\n",
           f);
     if (s->filter > 0)
-        fprintf(f, "# peakError: mean over the pressure series of |peak sim - peak exp| / peak "
-                   "exp, peaks over the window of the pressures filtered by a centred moving "
-                   "average of %g s (peak_filtered_*), fraction.\n",
+        fprintf(f,
+                "# peakError: mean over the pressure series of |peak sim - peak exp| / peak "
+                "exp, peaks over the window of the pressures filtered by a centred moving "
+                "average of %g s (peak_filtered_*), fraction.\n",
                 s->filter);
     else
         fputs("# peakError: mean over the pressure series of |peak sim - peak exp| / peak exp, "

@@ -24,8 +24,7 @@ void ce_table_read(ce_table *t, const char *path, ce_format format)
     if (cf_table_read_as(path, format == CE_CSV ? CF_TABLE_CSV : CF_TABLE_DAT, 1, &c, &err))
         sl_fatal("%s", err.msg);
     if (c.ncol < 2)
-        sl_fatal("'%s' names no columns (need a time column and at least one value column)",
-                 path);
+        sl_fatal("'%s' names no columns (need a time column and at least one value column)", path);
     if (c.nrow == 0) sl_fatal("'%s' holds no data row", path);
     memset(t, 0, sizeof *t);
     t->ncol = c.ncol;

@@ -224,8 +224,10 @@ int main(int argc, char **argv)
         ce_run_free(&run);
     }
     if (n == 0) {
-        fprintf(stderr, "Error: none of the experimental columns named in %s is in the data "
-                        "file%s given:", s.path, o.ndata > 1 ? "s" : "");
+        fprintf(stderr,
+                "Error: none of the experimental columns named in %s is in the data "
+                "file%s given:",
+                s.path, o.ndata > 1 ? "s" : "");
         for (size_t i = 0; i < o.ndata; i++) fprintf(stderr, " %s", o.data[i]);
         fputc('\n', stderr);
         return 1;

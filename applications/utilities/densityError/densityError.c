@@ -77,8 +77,7 @@ static void run_gnuplot(const char *dir)
     sl_err err;
     if (cf_plot_script(dir, "densityError.gp", NULL, &err))
         sl_warning("%s: no plot; run 'gnuplot densityError.gp' in %s later", err.msg, dir);
-    else
-        sl_info("Plot: %s/densityError.png", dir);
+    else sl_info("Plot: %s/densityError.png", dir);
 }
 
 int main(int argc, char **argv)
@@ -95,7 +94,8 @@ int main(int argc, char **argv)
     fo_list *l = fo_select(&c, &name, 1);
     if (strcmp(fo_type_name(l, 0), "densityError"))
         sl_fatal("%s/system/controlDict: function object 'densityError' has type '%s'; the "
-                 "densityError utility needs type densityError", c.dir, fo_type_name(l, 0));
+                 "densityError utility needs type densityError",
+                 c.dir, fo_type_name(l, 0));
     if (fo_post_times(c.dir, spec, latest, &times, &err)) sl_fatal("%s", err.msg);
     for (size_t i = 0; i < times.n; i++) {
         fo_snapshot sn;

@@ -90,8 +90,8 @@ static void remove_entry(const options *o)
     dedit_change ch;
     if (dedit_remove(o->file, o->entry, &ch, &err)) sl_fatal("%s", err.msg);
     if (strcmp(ch.file, o->file) != 0)
-        printf("%s: '%s' is written in the included file %s: removed it there (line %d)\n",
-               o->file, o->entry, ch.file, ch.line);
+        printf("%s: '%s' is written in the included file %s: removed it there (line %d)\n", o->file,
+               o->entry, ch.file, ch.line);
     else
         printf("%s:%d: removed '%s'%s\n", ch.file, ch.line, o->entry,
                ch.removed > 1 ? " (every definition of it)" : "");

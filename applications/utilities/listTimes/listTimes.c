@@ -29,16 +29,16 @@ static const app_option options[] = {
     APP_TIMES,
     {.name = "check",
      .help = "read each listed time's restart file (uniform/restart) to\n"
-     "its end and mark a damaged or missing one; exit 1 if any"},
+             "its end and mark a damaged or missing one; exit 1 if any"},
     {.name = "rm",
      .help = "remove the listed time directories, then rewrite the\n"
-     "collections (*.pvd, *.vtu.series) to list those left"},
+             "collections (*.pvd, *.vtu.series) to list those left"},
     APP_END};
 
 static const app_info info = {
     .name = "listTimes",
     .what = "Lists the complete time directories of a case (those holding fluid.vtu),\n"
-    "one per line, in time order.  The case may also be given as the argument.",
+            "one per line, in time order.  The case may also be given as the argument.",
     .options = options,
     .args = "[<case>]",
     .max_args = 1,
@@ -71,8 +71,8 @@ static int print_times(const char *case_dir, int check, const tdir_list *l)
         sl_err err;
         int n;
         rst_status st = rst_read(dir, NULL, 0, &n, NULL, 0, &err);
-        static const char *const what[] = {"", "no restart file", "another version",
-                                           "another case", "damaged"};
+        static const char *const what[] = {"", "no restart file", "another version", "another case",
+                                           "damaged"};
         if (st == RST_OK) printf("%s\n", l->name[i]);
         else printf("%s  %s: %s\n", l->name[i], what[st], err.msg);
         bad += st != RST_OK;

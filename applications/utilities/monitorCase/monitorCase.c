@@ -32,8 +32,7 @@ typedef struct options {
 } options;
 
 /* The default picture: one panel per group of columns the record has. */
-static const char *const default_panels[] = {"rhoErrAvg,rhoErrMax", "iterations", "deltaT",
-                                             "vMax"};
+static const char *const default_panels[] = {"rhoErrAvg,rhoErrMax", "iterations", "deltaT", "vMax"};
 
 static const app_option table[] = {
     APP_CASE,
@@ -41,7 +40,10 @@ static const app_option table[] = {
      .kind = APP_STRING,
      .arg = "<a,b>",
      .help = "plot these columns (names or 1-based numbers) in one panel"},
-    {.name = "png", .kind = APP_PATH, .help = "draw into a PNG instead of the terminal", .glob = "*.png"},
+    {.name = "png",
+     .kind = APP_PATH,
+     .help = "draw into a PNG instead of the terminal",
+     .glob = "*.png"},
     {.name = "refresh",
      .kind = APP_DOUBLE,
      .arg = "<s>",
@@ -127,13 +129,12 @@ static int panel_columns(const cf_table *t, const char *list, int *col, int max,
 static const char *unit_of(const char *name)
 {
     static const char *const units[][2] = {
-        {"Time", "s"},        {"deltaT", "s"},         {"controllerDeltaT", "s"},
-        {"wallTime", "s"},    {"iterations", "-"},     {"shock", "-"},
-        {"rhoErr", "%"},      {"volErr", "%"},         {"vMax", "m/s"},
-        {"FMax", "m/s^2"},    {"pressure", "Pa"},      {"density", "kg/m^3"},
-        {"velocity", "m/s"},  {"height", "m"},         {"kinetic", "J"},
-        {"potential", "J"},   {"total", "J"},          {"average", "%"},
-        {"maximum", "%"},     {"minimum", "%"},        {"p", "%"}};
+        {"Time", "s"},       {"deltaT", "s"},   {"controllerDeltaT", "s"}, {"wallTime", "s"},
+        {"iterations", "-"}, {"shock", "-"},    {"rhoErr", "%"},           {"volErr", "%"},
+        {"vMax", "m/s"},     {"FMax", "m/s^2"}, {"pressure", "Pa"},        {"density", "kg/m^3"},
+        {"velocity", "m/s"}, {"height", "m"},   {"kinetic", "J"},          {"potential", "J"},
+        {"total", "J"},      {"average", "%"},  {"maximum", "%"},          {"minimum", "%"},
+        {"p", "%"}};
     for (size_t i = 0; i < sizeof units / sizeof *units; i++) {
         size_t n = strlen(units[i][0]);
         if (!strncmp(name, units[i][0], n) &&
@@ -179,7 +180,8 @@ static void draw_panel(FILE *p, const cf_table *t, const int *col, int n, int pn
     char ylabel[256];
     const char *unit = unit_of(t->name[col[0]]);
     for (int k = 1; k < n; k++)
-        if (!unit || !unit_of(t->name[col[k]]) || strcmp(unit, unit_of(t->name[col[k]]))) unit = NULL;
+        if (!unit || !unit_of(t->name[col[k]]) || strcmp(unit, unit_of(t->name[col[k]])))
+            unit = NULL;
     label(ylabel, sizeof ylabel, n == 1 ? t->name[col[0]] : "", unit);
     fputs("set ylabel ", p); /* in a terminal the key says it: no room beside the ticks */
     cf_plot_string(p, !png ? "" : n == 1 || !unit ? ylabel : ylabel + 1);
@@ -234,8 +236,10 @@ static void draw(const options *o, const cf_table *t, const char *path, const ch
         ncol[i] = panel_columns(t, panels[i], col[i], 16, o->columns != NULL, path);
         shown += ncol[i] > 0;
     }
-    if (!shown) sl_fatal("%s: none of the columns rhoErrAvg, rhoErrMax, iterations, deltaT, vMax: "
-                         "choose some with -columns", path);
+    if (!shown)
+        sl_fatal("%s: none of the columns rhoErrAvg, rhoErrMax, iterations, deltaT, vMax: "
+                 "choose some with -columns",
+                 path);
     FILE *p = cf_plot_open(&err);
     if (!p) sl_fatal("%s", err.msg);
     if (out) {
@@ -286,7 +290,8 @@ static void load(const options *o, cf_table *t, char **title, char **watch)
     }
     char *folders, *abs = realpath(o->dir, NULL), *base;
     if (cf_record_read(o->dir, t, &folders, watch, &err)) sl_fatal("%s", err.msg);
-    base = abs && strrchr(abs, '/') && strrchr(abs, '/')[1] ? strrchr(abs, '/') + 1 : (char *)o->dir;
+    base =
+        abs && strrchr(abs, '/') && strrchr(abs, '/')[1] ? strrchr(abs, '/') + 1 : (char *)o->dir;
     size_t n = strlen(base) + strlen(folders) + 8;
     *title = sl_malloc(n, "a title"); /* the case's own name, never "." */
     snprintf(*title, n, "%s: %s", base, folders);

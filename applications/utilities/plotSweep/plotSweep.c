@@ -139,8 +139,10 @@ static char *csv_field(const char **p)
     if (*s == '"') {
         for (s++; *s; s++) {
             if (*s == '"' && s[1] == '"') out[o++] = *s++;
-            else if (*s == '"') { s++; break; }
-            else out[o++] = *s;
+            else if (*s == '"') {
+                s++;
+                break;
+            } else out[o++] = *s;
         }
     }
     while (*s && *s != ',' && *s != '\n' && *s != '\r') out[o++] = *s++;
@@ -266,8 +268,8 @@ static int finite_number(const char *s, double *v)
 
 /* The n rows with finite numbers in columns cx and cy, into pts (room for
  * n); returns how many.  The others are counted on stderr. */
-static size_t finite_points(const options *o, const table *t, const size_t *rows, size_t n,
-                            int cx, int cy, point *pts)
+static size_t finite_points(const options *o, const table *t, const size_t *rows, size_t n, int cx,
+                            int cy, point *pts)
 {
     size_t k = 0;
     for (size_t i = 0; i < n; i++) {
@@ -341,8 +343,8 @@ static void append_safe(char *p, const char *s)
     for (; *s; s++)
         *p++ = (strchr("+-.", *s) || (*s >= '0' && *s <= '9') || (*s >= 'a' && *s <= 'z') ||
                 (*s >= 'A' && *s <= 'Z'))
-                   ? *s
-                   : '_';
+            ? *s
+            : '_';
     *p = '\0';
 }
 
@@ -397,19 +399,40 @@ static int first_of_group(const table *t, const plotted *d, int by, size_t i)
  * compareExperiment summary and the usual parameters; NULL if not known. */
 static const char *sweep_unit(const char *column)
 {
-    static const char *const units[][2] = {
-        {"wallTime", "s"},         {"steps", "-"},           {"meanIterations", "-"},
-        {"maxRhoErrAvg", "%"},     {"maxRhoErrMax", "%"},    {"meanRhoErrAvg", "%"},
-        {"maxVolErrAvg", "%"},     {"shocks", "-"},          {"heightRms", "m"},
-        {"heightMaxAbs", "m"},     {"arrivalError", "s"},    {"arrivalErrorMax", "s"},
-        {"plateauError", "fraction"}, {"peakError", "fraction"}, {"nHeights", "-"},
-        {"nPressures", "-"},       {"eta", "% of rho0"},     {"particleSpacing", "m"},
-        {"r0", "m"},               {"deltaT", "s"},          {"deltaTMin", "s"},
-        {"deltaTMax", "s"},        {"endTime", "s"},         {"writeInterval", "s"},
-        {"rho0", "kg/m^3"},        {"soundSpeed", "m/s"},    {"nu", "m^2/s"},
-        {"alpha", "-"},            {"epsilon", "-"},         {"iterations", "-"},
-        {"minIterations", "-"},    {"maxIterations", "-"},   {"numberOfThreads", "-"},
-        {"kappa", "-"}};
+    static const char *const units[][2] = {{"wallTime", "s"},
+                                           {"steps", "-"},
+                                           {"meanIterations", "-"},
+                                           {"maxRhoErrAvg", "%"},
+                                           {"maxRhoErrMax", "%"},
+                                           {"meanRhoErrAvg", "%"},
+                                           {"maxVolErrAvg", "%"},
+                                           {"shocks", "-"},
+                                           {"heightRms", "m"},
+                                           {"heightMaxAbs", "m"},
+                                           {"arrivalError", "s"},
+                                           {"arrivalErrorMax", "s"},
+                                           {"plateauError", "fraction"},
+                                           {"peakError", "fraction"},
+                                           {"nHeights", "-"},
+                                           {"nPressures", "-"},
+                                           {"eta", "% of rho0"},
+                                           {"particleSpacing", "m"},
+                                           {"r0", "m"},
+                                           {"deltaT", "s"},
+                                           {"deltaTMin", "s"},
+                                           {"deltaTMax", "s"},
+                                           {"endTime", "s"},
+                                           {"writeInterval", "s"},
+                                           {"rho0", "kg/m^3"},
+                                           {"soundSpeed", "m/s"},
+                                           {"nu", "m^2/s"},
+                                           {"alpha", "-"},
+                                           {"epsilon", "-"},
+                                           {"iterations", "-"},
+                                           {"minIterations", "-"},
+                                           {"maxIterations", "-"},
+                                           {"numberOfThreads", "-"},
+                                           {"kappa", "-"}};
     for (size_t i = 0; i < sizeof units / sizeof *units; i++)
         if (!strcmp(column, units[i][0])) return units[i][1];
     return NULL;
@@ -433,8 +456,9 @@ static void axis_label(FILE *p, const char *column)
 static void plot_header(FILE *p, const options *o, const char *out)
 {
     if (o->dumb) fputs("set terminal dumb 100 30\n", p);
-    else fprintf(p, "set terminal %s size 900,600 noenhanced\nset output '%s'\n",
-                 cf_plot_png_terminal(), out);
+    else
+        fprintf(p, "set terminal %s size 900,600 noenhanced\nset output '%s'\n",
+                cf_plot_png_terminal(), out);
     fputs("set grid\nset offsets graph 0.05, graph 0.05, graph 0.08, graph 0.05\nset xlabel ", p);
     axis_label(p, o->x);
     fputs("\nset ylabel ", p);

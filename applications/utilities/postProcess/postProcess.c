@@ -29,8 +29,8 @@ static const app_option options[] = {
      .kind = APP_STRING,
      .arg = "<name>",
      .help = "an entry of 'functions' in system/controlDict, or a type run\n"
-     "with its defaults (densityError, probes, waterGauges, energy);\n"
-     "repeat for several",
+             "with its defaults (densityError, probes, waterGauges, energy);\n"
+             "repeat for several",
      .def = "every entry of 'functions'",
      .repeat = 1},
     APP_TIMES,

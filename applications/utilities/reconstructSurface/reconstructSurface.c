@@ -161,19 +161,21 @@ static void write_table(const sl_case *c, const tdir_list *times, const gauges *
     if (tdir_mkdirs(dir, &err)) sl_fatal("%s", err.msg);
     FILE *f = afile_open(&af, path, &err);
     if (!f) sl_fatal("%s", err.msg);
-    fprintf(f, "# Free-surface measurements (Sluice reconstructSurface), one row per time\n"
-               "# area: of the reconstructed surface (m^2); volume: the volume it encloses (m^3)\n"
-               "# fluidVolume: particles times r0^3 (m^3); volumeRatio = volume / fluidVolume\n");
+    fprintf(f,
+            "# Free-surface measurements (Sluice reconstructSurface), one row per time\n"
+            "# area: of the reconstructed surface (m^2); volume: the volume it encloses (m^3)\n"
+            "# fluidVolume: particles times r0^3 (m^3); volumeRatio = volume / fluidVolume\n");
     for (size_t g = 0; g < gs->n; g++)
-        fprintf(f, "# height%zu: the highest surface point above (x, y) = (%g, %g) (m; nan: none)\n",
+        fprintf(f,
+                "# height%zu: the highest surface point above (x, y) = (%g, %g) (m; nan: none)\n",
                 g + 1, gs->xy[g][0], gs->xy[g][1]);
     fprintf(f, "# Time\tparticles\ttriangles\tarea\tvolume\tfluidVolume\tvolumeRatio");
     for (size_t g = 0; g < gs->n; g++) fprintf(f, "\theight%zu", g + 1);
     fprintf(f, "\n");
     for (size_t i = 0; i < times->n; i++) {
         const double fv = (double)st[i].n * v0;
-        fprintf(f, "%s\t%zu\t%zu\t%.10g\t%.10g\t%.10g\t%.10g", times->name[i], st[i].n,
-                st[i].nt, st[i].area, st[i].volume, fv, fv > 0 ? st[i].volume / fv : 0.0);
+        fprintf(f, "%s\t%zu\t%zu\t%.10g\t%.10g\t%.10g\t%.10g", times->name[i], st[i].n, st[i].nt,
+                st[i].area, st[i].volume, fv, fv > 0 ? st[i].volume / fv : 0.0);
         for (size_t g = 0; g < gs->n; g++) fprintf(f, "\t%.10g", st[i].height[g]);
         fprintf(f, "\n");
     }
@@ -234,8 +236,8 @@ static void read_gauges(const app *a, gauges *gs)
     for (size_t g = 0; g < gs->n; g++) {
         const char *v = app_value_at(a, "gauge", g);
         char x[64], y[64], extra;
-        if (sscanf(v, "%63s %63s %c", x, y, &extra) != 2 ||
-            app_parse_double(x, &gs->xy[g][0]) || app_parse_double(y, &gs->xy[g][1]))
+        if (sscanf(v, "%63s %63s %c", x, y, &extra) != 2 || app_parse_double(x, &gs->xy[g][0]) ||
+            app_parse_double(y, &gs->xy[g][1]))
             app_error(a, "-gauge: '%s' is not two numbers '<x> <y>'", v);
     }
 }

@@ -35,7 +35,8 @@ static void report_body(const sl_case *c, uint32_t k)
     const sl_boundary *b = &c->boundary;
     size_t n = 0;
     for (size_t i = 0; i < b->n; i++) n += b->body[i] == k;
-    double *x = sl_malloc((n + 1) * 3 * sizeof *x, "body positions"), *y = x + n + 1, *z = y + n + 1;
+    double *x = sl_malloc((n + 1) * 3 * sizeof *x, "body positions"), *y = x + n + 1,
+           *z = y + n + 1;
     size_t q = 0;
     for (size_t i = 0; i < b->n; i++)
         if (b->body[i] == k) {
@@ -45,7 +46,8 @@ static void report_body(const sl_case *c, uint32_t k)
             q++;
         }
     msample_quality s = msample_spacing(n, x, y, z);
-    sl_info("  %-16s %8zu particles   spacing min %.3g  mean %.3g  max %.3g  (r0 = %g: %.2f / %.2f / %.2f r0)",
+    sl_info("  %-16s %8zu particles   spacing min %.3g  mean %.3g  max %.3g  (r0 = %g: %.2f / %.2f "
+            "/ %.2f r0)",
             c->shapes[k].name, n, s.min, s.mean, s.max, c->prm.r0, s.min / c->prm.r0,
             s.mean / c->prm.r0, s.max / c->prm.r0);
     free(x);
@@ -60,8 +62,8 @@ int main(int argc, char **argv)
     sl_err err;
     case_read(&c, dir);
     case_build(&c);
-    sl_info("Case %s: %zu fluid particles, %zu boundary particles in %zu bodies", c.dir,
-            c.fluid.n, c.boundary.n, c.nshapes);
+    sl_info("Case %s: %zu fluid particles, %zu boundary particles in %zu bodies", c.dir, c.fluid.n,
+            c.boundary.n, c.nshapes);
     for (uint32_t k = 0; k < c.nshapes; k++) report_body(&c, k);
     size_t len = strlen(dir) + 64;
     char *out = sl_malloc(len, "path"), *path = sl_malloc(len + 32, "path");

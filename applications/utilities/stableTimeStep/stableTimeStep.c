@@ -125,7 +125,7 @@ static void split_methods(const app *a, sts_options *o, const char *list)
 {
     char *copy = sl_strdup(list), *save = NULL;
     for (char *w = strtok_r(copy, ",", &save); w; w = strtok_r(NULL, ",", &save)) {
-        if (strlen(w) >= sizeof ((sts_search *)0)->method)
+        if (strlen(w) >= sizeof((sts_search *)0)->method)
             app_error(a, "-method: method name '%s' is too long", w);
         o->methods = sl_realloc(o->methods, (o->nmethods + 1) * sizeof *o->methods, "methods");
         o->methods[o->nmethods++] = sl_strdup(w);
@@ -170,8 +170,10 @@ static sts_options parse_args(int argc, char **argv)
     o.threads = (int)app_int(&a, "threads", 0);
     split_methods(&a, &o, app_string(&a, "method", "ihmsen2010,becker2009,harada2007"));
     parse_words(&a, &o);
-    if (!(o.dt_min < o.dt_max)) app_error(&a, "-dtMin %g must be below -dtMax %g", o.dt_min, o.dt_max);
-    if (o.tolerance < 0.002) app_error(&a, "-tolerance below 0.2%% is finer than deltaT is written");
+    if (!(o.dt_min < o.dt_max))
+        app_error(&a, "-dtMin %g must be below -dtMax %g", o.dt_min, o.dt_max);
+    if (o.tolerance < 0.002)
+        app_error(&a, "-tolerance below 0.2%% is finer than deltaT is written");
     app_free(&a);
     if (!o.jobs) o.jobs = cores > 0 ? (int)cores : 1;
     if (!o.threads) {
@@ -318,7 +320,8 @@ int main(int argc, char **argv)
     char *self = cf_self_dir(&err), *pp = cf_join(r.opt.case_dir, "postProcessing");
     if (!self) sl_fatal("%s", err.msg);
     r.solver = cf_join(self, "pcisph");
-    if (access(r.solver, X_OK) != 0) sl_fatal("no solver %s beside stableTimeStep: run make", r.solver);
+    if (access(r.solver, X_OK) != 0)
+        sl_fatal("no solver %s beside stableTimeStep: run make", r.solver);
     r.out_dir = cf_join(pp, "stableTimeStep");
     char *trials = cf_join(r.out_dir, "trials"), *common = cf_join(r.out_dir, "common");
     if (cf_remove_tree(trials, &err) || cf_remove_tree(common, &err) ||

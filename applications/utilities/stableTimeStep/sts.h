@@ -35,7 +35,7 @@
 #include "case/case.h"
 
 typedef enum sts_status {
-    STS_PENDING,     /* planned, not started */
+    STS_PENDING, /* planned, not started */
     STS_RUNNING,
     STS_STABLE,      /* exit 0, max rhoErrAvg below the bound, no particle lost */
     STS_UNSTABLE,    /* anything else the solver did */
@@ -48,57 +48,57 @@ enum { STS_VOL_ERR_AVG, STS_RHO_ERR_AVG };
 const char *sts_measure_name(int measure);
 
 typedef struct sts_trial {
-    size_t method;           /* index into sts_run.search */
+    size_t method; /* index into sts_run.search */
     double dt;
-    int common;              /* a run at the common deltaT (pictures), not a search trial */
+    int common; /* a run at the common deltaT (pictures), not a search trial */
     char *dir, *record, *log;
     sts_status status;
     pid_t pid;
     struct timespec start;
-    double wall;             /* s, elapsed time of the process */
+    double wall; /* s, elapsed time of the process */
     /* From the record (steps with shock 1 are not counted). */
-    long record_offset;      /* bytes of the record read so far */
+    long record_offset; /* bytes of the record read so far */
     long steps;
-    double iterations;       /* sum over steps */
-    double err_avg_max;      /* max over steps of the measure judged, percent */
-    double t_err_avg_max;    /* time of that step */
-    double own_avg_max;      /* max over steps of rhoErrAvg (the method's own density) */
-    double vol_avg_max;      /* max over steps of volErrAvg (with the wall's density) */
+    double iterations;    /* sum over steps */
+    double err_avg_max;   /* max over steps of the measure judged, percent */
+    double t_err_avg_max; /* time of that step */
+    double own_avg_max;   /* max over steps of rhoErrAvg (the method's own density) */
+    double vol_avg_max;   /* max over steps of volErrAvg (with the wall's density) */
     double t_reached;
-    long lost;               /* particles outside the fluid space at the end, -1 unknown */
+    long lost; /* particles outside the fluid space at the end, -1 unknown */
     char reason[512];
 } sts_trial;
 
 typedef struct sts_search {
     char method[32];
-    double lo, hi;           /* bracket of the largest stable deltaT */
-    int lo_stable;           /* lo was run and is stable */
-    int hi_unstable;         /* hi was run and is unstable */
-    long best;               /* the trial at lo (lo_stable), else -1 */
-    long worst;              /* the trial at hi (hi_unstable), else -1 */
-    int ntrials;             /* trials finished (cancelled ones not counted) */
+    double lo, hi;   /* bracket of the largest stable deltaT */
+    int lo_stable;   /* lo was run and is stable */
+    int hi_unstable; /* hi was run and is unstable */
+    long best;       /* the trial at lo (lo_stable), else -1 */
+    long worst;      /* the trial at hi (hi_unstable), else -1 */
+    int ntrials;     /* trials finished (cancelled ones not counted) */
     int done, unavailable;
-    int nonmonotonic;        /* a stable deltaT above an unstable one was seen */
+    int nonmonotonic; /* a stable deltaT above an unstable one was seen */
 } sts_search;
 
 typedef struct sts_options {
     const char *case_dir;
     char **methods;
     size_t nmethods;
-    double end_time;         /* <= 0: the case's */
-    double bound;            /* percent */
-    int measure;             /* STS_VOL_ERR_AVG or STS_RHO_ERR_AVG */
+    double end_time; /* <= 0: the case's */
+    double bound;    /* percent */
+    int measure;     /* STS_VOL_ERR_AVG or STS_RHO_ERR_AVG */
     double dt_min, dt_max, tolerance;
     int jobs, threads;
-    double common_dt;        /* 0: the smallest stable deltaT found; < 0: no common runs */
+    double common_dt; /* 0: the smallest stable deltaT found; < 0: no common runs */
 } sts_options;
 
 typedef struct sts_run {
     sts_options opt;
-    sl_case base;            /* the case as read (geometry, start time) */
-    char *out_dir;           /* <case>/postProcessing/stableTimeStep */
-    char *solver;            /* pcisph beside this program */
-    double end_time;         /* of every trial */
+    sl_case base;    /* the case as read (geometry, start time) */
+    char *out_dir;   /* <case>/postProcessing/stableTimeStep */
+    char *solver;    /* pcisph beside this program */
+    double end_time; /* of every trial */
     double common_dt;
     sts_search *search;
     size_t nsearch;

@@ -125,8 +125,7 @@ void sts_search_update(sts_run *r, size_t m)
             snprintf(why, sizeof why, "not needed: %.6g s is stable", lo);
         else if (hi_unstable && t->dt >= hi)
             snprintf(why, sizeof why, "not needed: %.6g s is unstable", hi);
-        else
-            continue;
+        else continue;
         sts_trial_cancel(t, why);
     }
 }

@@ -61,10 +61,11 @@ static void cell_number(double v, int digits, char *buf, size_t len)
 static void write_markdown(const sts_run *r, FILE *f)
 {
     const sts_search *ref = NULL;
-    fprintf(f, "| method | largest stable deltaT (s) | smallest unstable deltaT (s) | paper (s) | "
-               "mean iterations | max volErrAvg (%%) | max rhoErrAvg (%%) | wall time (s) | "
-               "trials |\n"
-               "|---|---|---|---|---|---|---|---|---|\n");
+    fprintf(f,
+            "| method | largest stable deltaT (s) | smallest unstable deltaT (s) | paper (s) | "
+            "mean iterations | max volErrAvg (%%) | max rhoErrAvg (%%) | wall time (s) | "
+            "trials |\n"
+            "|---|---|---|---|---|---|---|---|---|\n");
     for (size_t m = 0; m < r->nsearch; m++) {
         const sts_search *s = &r->search[m];
         const sts_trial *b = best_trial(r, s);
@@ -81,11 +82,12 @@ static void write_markdown(const sts_run *r, FILE *f)
                 ev, er, wa, s->ntrials);
         if (!strcmp(s->method, "ihmsen2010") && s->lo_stable) ref = s;
     }
-    fprintf(f, "\nStable: the solver exits 0, max over steps of %s < %g %% and no particle "
-               "outside the tank at t = %g s; bisection on log deltaT in [%g, %g] s to %g %%.\n"
-               "volErrAvg: the average compression with the wall's density from the boundary "
-               "particles, alike for every method; rhoErrAvg: with the method's own density "
-               "(the same for ihmsen2010).\n",
+    fprintf(f,
+            "\nStable: the solver exits 0, max over steps of %s < %g %% and no particle "
+            "outside the tank at t = %g s; bisection on log deltaT in [%g, %g] s to %g %%.\n"
+            "volErrAvg: the average compression with the wall's density from the boundary "
+            "particles, alike for every method; rhoErrAvg: with the method's own density "
+            "(the same for ihmsen2010).\n",
             sts_measure_name(r->opt.measure), r->opt.bound, r->end_time, r->opt.dt_min,
             r->opt.dt_max, 100 * r->opt.tolerance);
     for (size_t m = 0; ref && m < r->nsearch; m++) {
@@ -95,8 +97,7 @@ static void write_markdown(const sts_run *r, FILE *f)
         if (!s->lo_stable) /* unstable at every deltaT tried: a lower bound on the ratio */
             fprintf(f, "dt(ihmsen2010) / dt(%s) > %.2f (no stable deltaT down to %g s)", s->method,
                     ref->lo / r->opt.dt_min, r->opt.dt_min);
-        else
-            fprintf(f, "dt(ihmsen2010) / dt(%s) = %.2f", s->method, ref->lo / s->lo);
+        else fprintf(f, "dt(ihmsen2010) / dt(%s) = %.2f", s->method, ref->lo / s->lo);
         if (p > 0) fprintf(f, " (paper: %.1f)", pref / p);
         fprintf(f, "\n");
     }
@@ -110,25 +111,30 @@ static void write_markdown(const sts_run *r, FILE *f)
                 }
         }
         if (s->nonmonotonic)
-            fprintf(f, "%s: a deltaT above an unstable one was stable; the smaller answer is "
-                       "kept\n", s->method);
+            fprintf(f,
+                    "%s: a deltaT above an unstable one was stable; the smaller answer is "
+                    "kept\n",
+                    s->method);
     }
     if (r->common_dt > 0)
-        fprintf(f, "Runs at the common deltaT %.6g s for the pictures: "
-                   "postProcessing/stableTimeStep/common/<method>/\n", r->common_dt);
+        fprintf(f,
+                "Runs at the common deltaT %.6g s for the pictures: "
+                "postProcessing/stableTimeStep/common/<method>/\n",
+                r->common_dt);
 }
 
 static void write_csv(const sts_run *r, FILE *f)
 {
-    fprintf(f, "method,largestStableDeltaT,smallestUnstableDeltaT,paperDeltaT,meanIterations,"
-               "maxRhoErrAvg,wallTime,trials,status,maxVolErrAvg,smallestDeltaTTried\n");
+    fprintf(f,
+            "method,largestStableDeltaT,smallestUnstableDeltaT,paperDeltaT,meanIterations,"
+            "maxRhoErrAvg,wallTime,trials,status,maxVolErrAvg,smallestDeltaTTried\n");
     for (size_t m = 0; m < r->nsearch; m++) {
         const sts_search *s = &r->search[m];
         const sts_trial *b = best_trial(r, s);
         const char *status = s->unavailable ? "unavailable"
-                             : !s->lo_stable ? "belowDeltaTMin"
-                             : !s->hi_unstable ? "atDeltaTMax"
-                                               : "bracketed";
+            : !s->lo_stable                 ? "belowDeltaTMin"
+            : !s->hi_unstable               ? "atDeltaTMax"
+                                            : "bracketed";
         fprintf(f, "%s,%.6g,%.6g,%.6g,%.4g,%.6g,%.4g,%d,%s,%.6g,%.6g\n", s->method,
                 s->lo_stable ? s->lo : nan(""), s->hi_unstable ? s->hi : nan(""),
                 sts_paper_dt(s->method) > 0 ? sts_paper_dt(s->method) : nan(""),
@@ -140,13 +146,14 @@ static void write_csv(const sts_run *r, FILE *f)
 
 static void write_trials(const sts_run *r, FILE *f)
 {
-    fprintf(f, "method,deltaT,kind,status,maxJudged,timeOfMax,meanIterations,steps,lost,"
-               "wallTime,reason,maxVolErrAvg,maxRhoErrAvg\n");
+    fprintf(f,
+            "method,deltaT,kind,status,maxJudged,timeOfMax,meanIterations,steps,lost,"
+            "wallTime,reason,maxVolErrAvg,maxRhoErrAvg\n");
     for (size_t i = 0; i < r->ntrial; i++) {
         const sts_trial *t = &r->trial[i];
         fprintf(f, "%s,%.6g,%s,%s,%.6g,%.6g,%.4g,%ld,%ld,%.4g,\"", r->search[t->method].method,
-                t->dt, t->common ? "common" : "search", sts_status_name(t->status),
-                t->err_avg_max, t->t_err_avg_max, mean_iterations(t), t->steps, t->lost, t->wall);
+                t->dt, t->common ? "common" : "search", sts_status_name(t->status), t->err_avg_max,
+                t->t_err_avg_max, mean_iterations(t), t->steps, t->lost, t->wall);
         for (const char *c = t->reason; *c; c++) {
             if (*c == '"') fputc('"', f);
             fputc(*c, f);

@@ -32,12 +32,18 @@
 const char *sts_status_name(sts_status s)
 {
     switch (s) {
-    case STS_PENDING: return "pending";
-    case STS_RUNNING: return "running";
-    case STS_STABLE: return "stable";
-    case STS_UNSTABLE: return "unstable";
-    case STS_UNAVAILABLE: return "unavailable";
-    case STS_CANCELLED: return "cancelled";
+    case STS_PENDING:
+        return "pending";
+    case STS_RUNNING:
+        return "running";
+    case STS_STABLE:
+        return "stable";
+    case STS_UNSTABLE:
+        return "unstable";
+    case STS_UNAVAILABLE:
+        return "unavailable";
+    case STS_CANCELLED:
+        return "cancelled";
     }
     return "?";
 }
@@ -302,8 +308,7 @@ static void check_particles(const sts_run *r, sts_trial *t)
     if (t->lost < 0) {
         snprintf(t->reason, sizeof t->reason, "%.*s", (int)sizeof t->reason - 1, err.msg);
     } else if (tv < r->end_time - 1e-9 * (1.0 + fabs(r->end_time))) {
-        snprintf(t->reason, sizeof t->reason, "the last time written is %.6g s, not endTime",
-                 tv);
+        snprintf(t->reason, sizeof t->reason, "the last time written is %.6g s, not endTime", tv);
     } else if (t->lost > 0) {
         snprintf(t->reason, sizeof t->reason, "%ld particles outside the tank at t = %.6g s",
                  t->lost, tv);

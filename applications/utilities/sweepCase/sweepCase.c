@@ -48,16 +48,17 @@ static const app_info info = {
     .min_args = 1,
     .max_args = 1,
     .args_kind = APP_PATH,
-    .notes = "Sweep dictionary (OpenFOAM syntax, paths relative to its folder):\n"
-             "  baseCase    ../../tutorials/damBreak;\n"
-             "  combine     product;          // or zip (the i-th values together)\n"
-             "  parameters\n"
-             "  {\n"
-             "      \"constant/fluidProperties/eta\"   (0.5 1 2);   // \"<file>/<entry>\" (values)\n"
-             "      \"system/timeStepDict/mode\"       (adaptive constant);\n"
-             "  }\n"
-             "  results     (postProcessing/densityError/0/densityError.dat:rhoErrAvg);\n"
-             "              // optional: <file>:<column>, its last row"};
+    .notes =
+        "Sweep dictionary (OpenFOAM syntax, paths relative to its folder):\n"
+        "  baseCase    ../../tutorials/damBreak;\n"
+        "  combine     product;          // or zip (the i-th values together)\n"
+        "  parameters\n"
+        "  {\n"
+        "      \"constant/fluidProperties/eta\"   (0.5 1 2);   // \"<file>/<entry>\" (values)\n"
+        "      \"system/timeStepDict/mode\"       (adaptive constant);\n"
+        "  }\n"
+        "  results     (postProcessing/densityError/0/densityError.dat:rhoErrAvg);\n"
+        "              // optional: <file>:<column>, its last row"};
 
 static options parse_args(int argc, char **argv)
 {

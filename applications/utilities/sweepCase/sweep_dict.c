@@ -172,12 +172,11 @@ static void sweep_read_param(sweep *s, const dict_entry *e, sweep_param *p)
     p->key = sl_strdup(dict_entry_key(e));
     p->line = dict_entry_line(e);
     if (dict_entry_dict(e))
-        sl_fatal("%s:%d: parameter '%s': expected a list of values, found a dictionary",
-                 s->path, p->line, p->key);
+        sl_fatal("%s:%d: parameter '%s': expected a list of values, found a dictionary", s->path,
+                 p->line, p->key);
     p->value = sweep_split(text, &p->nvalue);
     free(text);
-    if (p->nvalue == 0)
-        sl_fatal("%s:%d: parameter '%s' has no values", s->path, p->line, p->key);
+    if (p->nvalue == 0) sl_fatal("%s:%d: parameter '%s' has no values", s->path, p->line, p->key);
     sweep_locate(s, p);
     sweep_check_entry(s, p);
 }
@@ -285,8 +284,8 @@ static void sweep_names(sweep *s)
         size_t o = 0;
         for (size_t k = 0; k < s->nparam; k++) {
             sweep_safe(sweep_value(s, i, k), part, sizeof part);
-            int w = snprintf(buf + o, sizeof buf - o, "%s%s_%s", k ? "-" : "", s->param[k].label,
-                             part);
+            int w =
+                snprintf(buf + o, sizeof buf - o, "%s%s_%s", k ? "-" : "", s->param[k].label, part);
             if (w > 0) o = o + (size_t)w < sizeof buf ? o + (size_t)w : sizeof buf - 1;
         }
         for (size_t j = 0; j < i; j++)

@@ -181,7 +181,7 @@ static int sweep_report(const sweep *s, const sweep_job *j, int status, size_t d
     char eta[128];
     sweep_eta(eta, sizeof eta, prog, done, n);
     int ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 &&
-             sweep_case_status(s, j->point) == SWEEP_FINISHED;
+        sweep_case_status(s, j->point) == SWEEP_FINISHED;
     if (ok) {
         printf("[%zu/%zu] %s: finished in %.1f s%s\n", done, n, s->name[j->point], secs, eta);
     } else {

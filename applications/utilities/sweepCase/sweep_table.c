@@ -20,9 +20,9 @@
 
 /* Columns computed from the per-step record, in table order. */
 enum { R_WALL, R_STEPS, R_ITER, R_AVG, R_MAX, R_SHOCK, R_MEAN_AVG, R_VOL, R_N };
-static const char *const record_label[R_N] = {
-    "wallTime", "steps",  "meanIterations", "maxRhoErrAvg",
-    "maxRhoErrMax", "shocks", "meanRhoErrAvg", "maxVolErrAvg"};
+static const char *const record_label[R_N] = {"wallTime",      "steps",        "meanIterations",
+                                              "maxRhoErrAvg",  "maxRhoErrMax", "shocks",
+                                              "meanRhoErrAvg", "maxVolErrAvg"};
 
 typedef struct sweep_row {
     sweep_status status;

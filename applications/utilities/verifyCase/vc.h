@@ -24,27 +24,34 @@
 #include "dictionary/dict.h"
 #include "functionObjects/fo_post.h"
 
-typedef enum { VC_HYDROSTATIC, VC_TRANSLATING, VC_POISEUILLE, VC_TAYLOR_GREEN, VC_WAVE, VC_KINDS } vc_kind;
+typedef enum {
+    VC_HYDROSTATIC,
+    VC_TRANSLATING,
+    VC_POISEUILLE,
+    VC_TAYLOR_GREEN,
+    VC_WAVE,
+    VC_KINDS
+} vc_kind;
 
 typedef struct vc_setup {
     vc_kind kind;
     double nu, amplitude, length, from, tolerance; /* tolerance < 0: none */
     double rho0, r0, g[3], gmag;
-    double lo[3], hi[3];                           /* the container's inner walls */
-    const mot_motion *motion;                      /* the container's, or NULL */
+    double lo[3], hi[3];      /* the container's inner walls */
+    const mot_motion *motion; /* the container's, or NULL */
     size_t nfluid;
-    double depth;                                  /* fluid volume / container area */
+    double depth; /* fluid volume / container area */
 } vc_setup;
 
 /* One written time's measures (what the kind defines; unused ones NAN). */
 typedef struct vc_sample {
     double t;
-    double err;       /* the norm this kind is judged by, at this time */
-    double perr;      /* hydrostatic pressure error / (rho0 g H) */
-    double vrms;      /* rms speed against the exact velocity (m/s) */
-    double ke;        /* kinetic energy per unit mass (m^2/s^2) */
-    double height;    /* the highest particle + r0/2 (m) */
-    double mode;      /* standingWave: the velocity's projection on the linear mode
+    double err;    /* the norm this kind is judged by, at this time */
+    double perr;   /* hydrostatic pressure error / (rho0 g H) */
+    double vrms;   /* rms speed against the exact velocity (m/s) */
+    double ke;     /* kinetic energy per unit mass (m^2/s^2) */
+    double height; /* the highest particle + r0/2 (m) */
+    double mode;   /* standingWave: the velocity's projection on the linear mode
                          (m/s; A w cos(w t) for the exact answer) */
 } vc_sample;
 

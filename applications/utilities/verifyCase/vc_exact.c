@@ -10,10 +10,9 @@
 #include <stdlib.h>
 
 const char *const vc_kind_names[] = {"hydrostatic", "translatingTank", "poiseuille",
-                                     "taylorGreen", "standingWave", NULL};
+                                     "taylorGreen", "standingWave",    NULL};
 
-static const char *const keys[] = {"exact", "nu", "amplitude", "length", "from", "tolerance",
-                                   NULL};
+static const char *const keys[] = {"exact", "nu", "amplitude", "length", "from", "tolerance", NULL};
 
 static double need_scalar(const dict *d, const char *key, double def, int required)
 {
@@ -50,7 +49,8 @@ void vc_read(vc_setup *s, const sl_case *c)
     int k = 0;
     while (vc_kind_names[k] && strcmp(vc_kind_names[k], w)) k++;
     if (!vc_kind_names[k])
-        dict_fatal(d, "exact", "unknown answer '%s' (did you mean '%s'?); known: hydrostatic "
+        dict_fatal(d, "exact",
+                   "unknown answer '%s' (did you mean '%s'?); known: hydrostatic "
                    "translatingTank poiseuille taylorGreen standingWave",
                    w, dict_nearest(w, vc_kind_names));
     memset(s, 0, sizeof *s);
@@ -76,7 +76,8 @@ void vc_read(vc_setup *s, const sl_case *c)
     if (still && (s->g[0] != 0.0 || s->g[1] != 0.0 || !(s->g[2] < 0.0)))
         dict_fatal(d, "exact", "'%s' needs gravity (0 0 -g) in constant/fluidProperties", w);
     if (s->kind == VC_POISEUILLE && (!(s->g[0] > 0.0) || s->g[1] != 0.0 || s->g[2] != 0.0))
-        dict_fatal(d, "exact", "'poiseuille' needs a driving gravity (g 0 0), g > 0, in "
+        dict_fatal(d, "exact",
+                   "'poiseuille' needs a driving gravity (g 0 0), g > 0, in "
                    "constant/fluidProperties (the flow along x between plates at z min and max)");
     if (s->kind == VC_TRANSLATING && !s->motion)
         dict_fatal(d, "exact", "'translatingTank' needs a container with a motion { }");
@@ -165,7 +166,8 @@ void vc_measure(const vc_setup *s, const sl_fluid *f, double t, vc_sample *out)
         if (f->z[i] > top) top = f->z[i];
         if (s->kind == VC_WAVE) { /* the mode's velocity shape (case.c's standingWave) */
             const double x = f->x[i] - s->lo[0], z = f->z[i] - s->lo[2], sh = sinh(kw * H);
-            const double mu = -cosh(kw * z) / sh * sin(kw * x), mw = sinh(kw * z) / sh * cos(kw * x);
+            const double mu = -cosh(kw * z) / sh * sin(kw * x),
+                         mw = sinh(kw * z) / sh * cos(kw * x);
             pm += f->vx[i] * mu + f->vz[i] * mw;
             mm += mu * mu + mw * mw;
         }
@@ -176,16 +178,27 @@ void vc_measure(const vc_setup *s, const sl_fluid *f, double t, vc_sample *out)
     out->ke = ke / n;
     out->mode = mm > 0.0 ? pm / mm : (double)NAN;
     out->height = top + 0.5 * s->r0 - s->lo[2];
-    out->perr = (s->kind == VC_HYDROSTATIC || s->kind == VC_TRANSLATING || s->kind == VC_WAVE) && H > 0.0 ? sqrt(sp / n) / (pg * H) : (double)NAN;
+    out->perr =
+        (s->kind == VC_HYDROSTATIC || s->kind == VC_TRANSLATING || s->kind == VC_WAVE) && H > 0.0
+        ? sqrt(sp / n) / (pg * H)
+        : (double)NAN;
     switch (s->kind) {
-    case VC_HYDROSTATIC: out->err = profile_error(s, f); break;
-    case VC_TRANSLATING: out->err = out->vrms / sqrt(s->gmag * H); break;
+    case VC_HYDROSTATIC:
+        out->err = profile_error(s, f);
+        break;
+    case VC_TRANSLATING:
+        out->err = out->vrms / sqrt(s->gmag * H);
+        break;
     case VC_POISEUILLE: {
         const double d = s->hi[2] - s->lo[2], umax = s->g[0] * d * d / (8.0 * s->nu);
         out->err = sqrt(su / n) / umax;
         break;
     }
-    case VC_TAYLOR_GREEN: out->err = out->vrms / s->amplitude; break;
-    default: out->err = NAN; break;
+    case VC_TAYLOR_GREEN:
+        out->err = out->vrms / s->amplitude;
+        break;
+    default:
+        out->err = NAN;
+        break;
     }
 }

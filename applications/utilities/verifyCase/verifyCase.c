@@ -32,7 +32,10 @@ static const app_option options[] = {
     APP_CASE,
     APP_TIMES,
     {.name = "table", .kind = APP_PATH, .help = "append the case's row to this file"},
-    {.name = "label", .kind = APP_STRING, .help = "the row's first column", .def = "the case's folder name"},
+    {.name = "label",
+     .kind = APP_STRING,
+     .help = "the row's first column",
+     .def = "the case's folder name"},
     {.name = "quiet", .help = "print only the case's error"},
     APP_END};
 
@@ -110,12 +113,13 @@ static void write_summary(const sl_case *c, const vc_setup *s, double error, dou
     snprintf(path, sizeof path, "%s/postProcessing/verifyCase/summary.dat", c->dir);
     FILE *f = fopen(path, "w");
     if (!f) sl_fatal("cannot write '%s'", path);
-    fprintf(f, "# verifyCase: %s against its exact answer (system/verifyDict)\n"
-               "# reached: the latest written time over endTime (< 1: the run stopped early)\n"
-               "# error\tpressureError\tvelocityRms\tparticles\tr0\twallTime\tsteps\treached\n",
+    fprintf(f,
+            "# verifyCase: %s against its exact answer (system/verifyDict)\n"
+            "# reached: the latest written time over endTime (< 1: the run stopped early)\n"
+            "# error\tpressureError\tvelocityRms\tparticles\tr0\twallTime\tsteps\treached\n",
             vc_kind_names[s->kind]);
-    fprintf(f, "%.8g\t%.8g\t%.8g\t%zu\t%g\t%.6g\t%ld\t%.6g\n", error, perr, vrms, s->nfluid,
-            s->r0, wall, steps, reached);
+    fprintf(f, "%.8g\t%.8g\t%.8g\t%zu\t%g\t%.6g\t%ld\t%.6g\n", error, perr, vrms, s->nfluid, s->r0,
+            wall, steps, reached);
     if (fclose(f)) sl_fatal("cannot write '%s'", path);
 }
 
@@ -137,7 +141,8 @@ int main(int argc, char **argv)
     app_times(&a, c.dir, "fluid.vtu", with_first, &times);
     if (times.n == 0)
         sl_fatal("%s: no written time to verify (run the case first; the initial state does not "
-                 "count)", c.dir);
+                 "count)",
+                 c.dir);
     vc_sample *smp = sl_malloc(times.n * sizeof *smp, "samples");
     const double area = (s.hi[0] - s.lo[0]) * (s.hi[1] - s.lo[1]);
     double worst = 0.0, mean = 0.0;
@@ -176,8 +181,8 @@ int main(int argc, char **argv)
                      "run at least a quarter period",
                      c.dir, 0.25 * Te);
         error = fabs(T - Te) / Te;
-        printf("# period %.6g s from %d zero crossings, linear theory %.6g s (L %g m, H %.6g m)\n", T,
-               ncross, Te, s.hi[0] - s.lo[0], s.depth);
+        printf("# period %.6g s from %d zero crossings, linear theory %.6g s (L %g m, H %.6g m)\n",
+               T, ncross, Te, s.hi[0] - s.lo[0], s.depth);
         what = "relative error of the period";
         counted = 1;
     }
@@ -189,7 +194,8 @@ int main(int argc, char **argv)
     const double last = times.time[times.n - 1], reached = last / c.ctl.end_time;
     if (last < c.ctl.end_time - 1e-9 * (1.0 + c.ctl.end_time))
         sl_warning("%s: the run stopped at t = %g s before its endTime %g s: the error is that "
-                   "of the times written", c.dir, last, c.ctl.end_time);
+                   "of the times written",
+                   c.dir, last, c.ctl.end_time);
     write_summary(&c, &s, error, smp[times.n - 1].perr, smp[times.n - 1].vrms, wall, steps,
                   reached);
     if (table) {
@@ -206,8 +212,9 @@ int main(int argc, char **argv)
         if (fclose(f)) sl_fatal("cannot write '%s'", table);
     }
     int bad = s.tolerance > 0.0 && !(error <= s.tolerance);
-    if (bad) fprintf(stderr, "Error: %s: error %.6g above the tolerance %g of system/verifyDict\n",
-                     c.dir, error, s.tolerance);
+    if (bad)
+        fprintf(stderr, "Error: %s: error %.6g above the tolerance %g of system/verifyDict\n",
+                c.dir, error, s.tolerance);
     free(smp);
     tdir_list_free(&times);
     case_free(&c);
