@@ -142,12 +142,51 @@ static void test_splish_levels(void **state)
                      0);
 }
 
+/* cases/glass at ./setLevel 75k (the paper's Glass scale, doc/timestep-cost.md):
+ * r0 0.01 m and the emitter's 80 lattice points at 0.9375 m/s, so the first
+ * 0.05 s emit 4 layers, 320 particles (74,960 in 10 s); ./setLevel 6k gives
+ * back the committed case byte for byte. */
+static void test_glass_levels(void **state)
+{
+    (void)state;
+    char cmd[4096];
+    snprintf(
+        cmd, sizeof cmd,
+        "rm -rf tests/output/glassLevels && mkdir -p tests/output && "
+        "cp -r cases/glass tests/output/glassLevels && "
+        "SLUICE_BIN=%s tests/output/glassLevels/setLevel 75k > /dev/null && "
+        "%s/editDictionary -entry endTime -set 0.05 tests/output/glassLevels/system/controlDict "
+        "> /dev/null && %s/editDictionary -entry writeInterval -set 0.05 "
+        "tests/output/glassLevels/system/controlDict > /dev/null && "
+        "%s/pcisph -case tests/output/glassLevels -quiet > tests/output/glassLevels/log 2>&1",
+        bin_dir(), bin_dir(), bin_dir(), bin_dir());
+    if (system(cmd) != 0) fail_msg("cases/glass at level 75k did not run");
+    double r0 = log_number("tests/output/glassLevels/log", "particle spacing r0");
+    if (r0 != 0.01) fail_msg("level 75k: r0 %g, expected 0.01", r0);
+    /* the number of fluid particles written at 0.05 s (the .vtu header) */
+    FILE *f = popen("grep -a -o 'NumberOfPoints=\"[0-9]*\"' "
+                    "tests/output/glassLevels/0.05/fluid.vtu | head -1 | tr -dc 0-9",
+                    "r");
+    assert_non_null(f);
+    long n = -1;
+    if (fscanf(f, "%ld", &n) != 1) n = -1;
+    pclose(f);
+    if (n != 320) fail_msg("level 75k: %ld fluid particles at 0.05 s, expected 320", n);
+    snprintf(cmd, sizeof cmd,
+             "SLUICE_BIN=%s tests/output/glassLevels/setLevel 6k > /dev/null && "
+             "diff -r cases/glass/constant tests/output/glassLevels/constant > /dev/null && "
+             "diff -r cases/glass/system tests/output/glassLevels/system > /dev/null",
+             bin_dir());
+    if (system(cmd) != 0) fail_msg("setLevel 6k after 75k does not give back cases/glass");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_scene_runs),
         cmocka_unit_test(test_paddle_not_penetrated),
         cmocka_unit_test(test_splish_levels),
+        cmocka_unit_test(test_glass_levels),
     };
     return cmocka_run_group_tests_name("scenes", tests, NULL, NULL);
 }
