@@ -397,3 +397,23 @@ void par_gatherv_root(const double *mine, int n, double *all, const int *cnt, co
     (void)cnt;
     for (int k = 0; k < n; k++) all[dis[0] + k] = mine[k];
 }
+
+void par_send_double(double v, int to)
+{
+#ifdef SL_HAVE_MPI
+    COUNTED(0, 0, MPI_Send(&v, 1, MPI_DOUBLE, to, 18, MPI_COMM_WORLD));
+#else
+    (void)v, (void)to;
+#endif
+}
+
+double par_recv_double(int from)
+{
+    double v = 0.0;
+#ifdef SL_HAVE_MPI
+    COUNTED(1, sizeof v, MPI_Recv(&v, 1, MPI_DOUBLE, from, 18, MPI_COMM_WORLD, MPI_STATUS_IGNORE));
+#else
+    (void)from;
+#endif
+    return v;
+}

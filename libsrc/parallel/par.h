@@ -64,6 +64,9 @@ void par_alltoallv_double(const double *s, const int *scnt, const int *sdis, dou
  * par_alltoall_int of them first, when they change). */
 void par_exchange_double(const double *s, const int *scnt, const int *sdis, double *r,
                          const int *rcnt, const int *rdis);
+/* One double to / from one rank (blocking; a chain of running sums). */
+void par_send_double(double v, int to);
+double par_recv_double(int from);
 /* One long per rank to every rank: all[r] is rank r's v. */
 void par_allgather_long(long v, long *all);
 /* Every rank's v[0..n) summed (exact) / maximised, in place, on every rank. */

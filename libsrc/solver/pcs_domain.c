@@ -3,8 +3,10 @@
 
 #include <math.h>
 #include <omp.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
@@ -20,10 +22,10 @@
 struct pcs_domain {
     size_t nrows, nx; /* rows of cells along x, in Morton order of (y, z); cells per row */
     int ny, nz, depth;
-    int *ry, *rz;   /* (cy, cz) of row k */
-    uint32_t *kof;  /* row of (cy, cz): kof[cy + ny cz] */
-    size_t *cut;    /* rank r owns rows [cut[r], cut[r+1]) */
-    int *owner;     /* of each row */
+    int *ry, *rz;                    /* (cy, cz) of row k */
+    uint32_t *kof;                   /* row of (cy, cz): kof[cy + ny cz] */
+    size_t *cut;                     /* rank r owns rows [cut[r], cut[r+1]) */
+    int *owner;                      /* of each row */
     uint32_t *nstart, *nrank, *mark; /* ranks whose halo holds row k: nrank[nstart[k]..) */
     size_t nrank_cap;
     long *rowcount, *cnt_p, *all_n, *all_s;
@@ -41,6 +43,7 @@ struct pcs_domain {
     size_t inv_cap;
     size_t nown, nsorted, lo, hi;
     size_t *goff; /* rank r's own rows are rows [goff[r], goff[r+1]) of the serial order */
+    size_t *boff; /* the blocks whose last row rank r holds: [boff[r], boff[r+1]) */
     /* boundary particles: the search at which this rank last computed
      * them (output takes the latest), marks of the boundary set */
     long *bstamp, *bkey;
@@ -60,8 +63,6 @@ struct pcs_domain {
     double *vol_all;
     size_t vol_cap;
     int vol_valid;
-    double *pbuf, *pall;
-    size_t pbuf_cap, pall_cap;
     int *pcnt, *pdis;
     pcd_counts c;
     double stored_sum, halo_sum;
@@ -208,6 +209,26 @@ int pcd_usable(const pcs_solver *s)
     return s->split.size > 1 && !s->prm.periodic.axes;
 }
 
+/* The fluid's arrays cut down to room for `want` particles (they were
+ * sized for the whole case when it was read): the state fields move over,
+ * the others are recomputed by every step before they are read. */
+static void shrink(sl_fluid *f, size_t want)
+{
+    if (want >= f->cap) return;
+    sl_fluid g;
+    prt_fluid_init(&g);
+    prt_fluid_reserve(&g, want);
+    const size_t n = f->n;
+    double *from[8] = {f->x, f->y, f->z, f->vx, f->vy, f->vz, f->rho, f->p};
+    double *to[8] = {g.x, g.y, g.z, g.vx, g.vy, g.vz, g.rho, g.p};
+    for (int k = 0; k < 8; k++) memcpy(to[k], from[k], n * sizeof *to[k]);
+    memcpy(g.id, f->id, n * sizeof *g.id);
+    memcpy(g.cell, f->cell, n * sizeof *g.cell);
+    g.n = n;
+    prt_fluid_free(f);
+    *f = g;
+}
+
 void pcd_init(pcs_solver *s)
 {
     const nbr_grid *g = &s->grid;
@@ -232,6 +253,7 @@ void pcd_init(pcs_solver *s)
         }
     d->cut = sl_malloc(((size_t)p + 1) * sizeof *d->cut, "rank cuts");
     d->goff = sl_calloc((size_t)p + 1, sizeof *d->goff, "rank rows");
+    d->boff = sl_calloc((size_t)p + 1, sizeof *d->boff, "rank rows");
     d->owner = sl_malloc(d->nrows * sizeof *d->owner, "row owners");
     d->nstart = sl_malloc((d->nrows + 1) * sizeof *d->nstart, "halo rows");
     d->mark = sl_malloc(d->nrows * sizeof *d->mark, "halo rows");
@@ -259,6 +281,7 @@ void pcd_init(pcs_solver *s)
     s->split.nglobal = f->n;
     f->n = j;
     d->nown = j;
+    shrink(f, 2 * j + 1024); /* own and halo; grows when it must */
     d->nsorted = 0;
     prt_fluid_init(&d->mirror);
     nbr_list_init(&d->mbf);
@@ -269,7 +292,8 @@ void pcd_free(pcs_solver *s)
 {
     struct pcs_domain *d = s->split.dd;
     if (!d) return;
-    free(d->ry), free(d->rz), free(d->kof), free(d->cut), free(d->goff), free(d->owner);
+    free(d->ry), free(d->rz), free(d->kof), free(d->cut), free(d->goff), free(d->boff),
+        free(d->owner);
     free(d->nstart), free(d->mark), free(d->rowcount), free(d->cnt_p), free(d->all_n);
     free(d->all_s);
     sl_free_aligned(d->nrank);
@@ -287,7 +311,6 @@ void pcd_free(pcs_solver *s)
     free(d->tail);
     snap_free(&d->full);
     sl_free_aligned(d->vol_all);
-    sl_free_aligned(d->pbuf), sl_free_aligned(d->pall);
     free(d);
     s->split.dd = NULL;
 }
@@ -295,8 +318,7 @@ void pcd_free(pcs_solver *s)
 /* ---- the start of a step: migration, rebalancing, halo ---- */
 
 /* Destinations of the n particles (rows in f->cell); per-rank counts. */
-static void destinations(const struct pcs_domain *d, const sl_fluid *f, int *dest, long *cnt,
-                         int p)
+static void destinations(const struct pcs_domain *d, const sl_fluid *f, int *dest, long *cnt, int p)
 {
     memset(cnt, 0, (size_t)p * sizeof *cnt);
     for (size_t i = 0; i < f->n; i++) {
@@ -532,70 +554,66 @@ void pcd_exchange_predicted(pcs_solver *s)
     exchange(s, a, 3);
 }
 
-/* What rows [lo, hi) of the serial order contribute to the block sums:
- * the sum of each block held whole, the rows of each block shared (in
- * order); err holds rows lo.. . */
-static size_t pieces(size_t lo, size_t hi, size_t n, double *out, const double *err,
-                     const double *part)
+/* The rank whose own rows hold row g of the serial order. */
+static int owner_of_row(const struct pcs_domain *d, int p, size_t g)
 {
-    const size_t B = SL_REDUCE_BLOCK;
-    size_t k = 0;
-    if (lo >= hi) return 0;
-    for (size_t blk = lo / B; blk <= (hi - 1) / B; blk++) {
-        const size_t bl = blk * B, be = bl + B < n ? bl + B : n;
-        if (lo <= bl && hi >= be) {
-            if (out) out[k] = part[blk];
-            k++;
-        } else {
-            const size_t a = lo > bl ? lo : bl, e = hi < be ? hi : be;
-            if (out) memcpy(out + k, err + (a - lo), (e - a) * sizeof *out);
-            k += e - a;
-        }
+    int lo = 0, hi = p - 1;
+    while (lo < hi) { /* the last rank with goff[r] <= g */
+        const int mid = (lo + hi + 1) / 2;
+        if (d->goff[mid] <= g) lo = mid;
+        else hi = mid - 1;
     }
-    return k;
+    while (d->goff[lo + 1] <= g) lo++; /* past empty ranks */
+    return lo;
+}
+
+/* The density error's block sums in the serial order (SL_REDUCE_BLOCK
+ * rows of the serial array each, summed one row at a time), on every
+ * rank.  The density pass summed this rank's whole blocks and the start
+ * of the block its rows end in; a block shared with lower ranks goes on
+ * from the running sum they pass up (one double, point-to-point), so it
+ * is summed in the serial order; then each block's sum is sent by the
+ * rank holding its last row to every rank (N / 4096 doubles). */
+static void chain_block_sums(pcs_solver *s, struct pcs_domain *d)
+{
+    const int p = s->split.size, me = s->split.rank;
+    const size_t n = s->split.nglobal, B = SL_REDUCE_BLOCK;
+    const size_t nb = (n + B - 1) / B;
+    const size_t G0 = d->goff[me], G1 = d->goff[me + 1];
+    double *part = s->err_block;
+    const double *err = s->err + d->lo; /* row G0 */
+    if (G1 > G0) {
+        const size_t bfirst = G0 / B, blast = (G1 - 1) / B;
+        int sent = 0;
+        if (G0 % B) { /* the block began on lower ranks */
+            double run = par_recv_double(owner_of_row(d, p, G0 - 1));
+            const size_t be = (bfirst + 1) * B < n ? (bfirst + 1) * B : n;
+            const size_t e = be < G1 ? be : G1;
+            for (size_t i = G0; i < e; i++) {
+                run += err[i - G0];
+                __asm__("" : "+m"(run)); /* one at a time, as the pass sums */
+            }
+            part[bfirst] = run;
+            if (e < be) { /* and goes on past this rank's rows */
+                par_send_double(run, owner_of_row(d, p, G1));
+                sent = 1;
+            }
+        }
+        if (!sent && G1 < n && G1 % B && !(G0 % B && blast == bfirst))
+            par_send_double(part[blast], owner_of_row(d, p, G1));
+    }
+    size_t *off = d->boff;
+    for (int r = 0; r <= p; r++) off[r] = d->goff[r] >= n ? nb : d->goff[r] / B;
+    par_gather_rows(part, off); /* each block from the rank holding its last row */
 }
 
 double pcd_after_density(pcs_solver *s, double emax)
 {
     struct pcs_domain *d = s->split.dd;
     const int p = s->split.size, me = s->split.rank;
-    const size_t n = s->split.nglobal, B = SL_REDUCE_BLOCK;
+    const size_t n = s->split.nglobal;
     const double t0 = omp_get_wtime();
-    /* the block sums of the serial order, on every rank */
-    size_t total = 0;
-    for (int r = 0; r < p; r++) {
-        d->pdis[r] = as_int(total);
-        d->pcnt[r] = as_int(pieces(d->goff[r], d->goff[r + 1], n, NULL, NULL, NULL));
-        total += (size_t)d->pcnt[r];
-    }
-    d->pbuf = grow(d->pbuf, &d->pbuf_cap, (size_t)d->pcnt[me] + 1, sizeof *d->pbuf, "block sums");
-    d->pall = grow(d->pall, &d->pall_cap, total + 1, sizeof *d->pall, "block sums");
-    pieces(d->goff[me], d->goff[me + 1], n, d->pbuf, s->err + d->lo, s->err_block);
-    par_allgatherv(d->pbuf, d->pcnt[me], d->pall, d->pcnt, d->pdis);
-    double *part = s->err_block;
-    size_t k = 0, run_blk = (size_t)-1;
-    double run = 0.0;
-    for (int r = 0; r < p; r++) {
-        const size_t lo = d->goff[r], hi = d->goff[r + 1];
-        if (lo >= hi) continue;
-        for (size_t blk = lo / B; blk <= (hi - 1) / B; blk++) {
-            const size_t bl = blk * B, be = bl + B < n ? bl + B : n;
-            if (lo <= bl && hi >= be) {
-                part[blk] = d->pall[k++];
-                continue;
-            }
-            const size_t a = lo > bl ? lo : bl, e = hi < be ? hi : be;
-            if (run_blk != blk) {
-                run_blk = blk;
-                run = 0.0;
-            }
-            for (size_t i = a; i < e; i++) {
-                run += d->pall[k++];
-                __asm__("" : "+m"(run)); /* one at a time, as the pass sums */
-            }
-            part[blk] = run;
-        }
-    }
+    chain_block_sums(s, d);
     s->time.comm += omp_get_wtime() - t0;
     /* the halo's p/rho^2 (the pressure force) and density (the next
      * density pass's EFF_DENSITY effects) */
@@ -743,8 +761,9 @@ void pcd_gather(pcs_solver *s)
         const size_t N = total / REC_OUT;
         sl_fluid *m = &d->mirror;
         if (m->cap < N) prt_fluid_reserve(m, N + N / 4 + 64);
-        d->tail = d->tail_cap >= N + 1 ? d->tail : sl_realloc(d->tail, (N + 1) * sizeof *d->tail,
-                                                                "output order");
+        d->tail = d->tail_cap >= N + 1
+            ? d->tail
+            : sl_realloc(d->tail, (N + 1) * sizeof *d->tail, "output order");
         d->tail_cap = d->tail_cap > N + 1 ? d->tail_cap : N + 1;
         size_t j = 0, nt = 0;
         for (int r = 0; r < p; r++) {
@@ -858,6 +877,17 @@ void pcd_localize_snapshot(const pcs_solver *s, pcs_snapshot *snap)
     snap->n = j;
 }
 
+/* The resident memory of this process now (bytes; 0 where /proc is not). */
+static double rss_now(void)
+{
+    FILE *fp = fopen("/proc/self/statm", "r");
+    unsigned long size = 0, res = 0;
+    if (!fp) return 0.0;
+    const int ok = fscanf(fp, "%lu %lu", &size, &res) == 2;
+    fclose(fp);
+    return ok ? (double)res * (double)sysconf(_SC_PAGESIZE) : 0.0;
+}
+
 pcd_counts pcd_counters(const pcs_solver *s)
 {
     const struct pcs_domain *d = s->split.dd;
@@ -871,6 +901,9 @@ pcd_counts pcd_counters(const pcs_solver *s)
     c.stored_mean = d->stored_sum / searches;
     c.halo_mean = d->halo_sum / searches;
     c.cap = s->f->cap;
+    const double mem = rss_now();
+    c.mem_max = par_max_double(mem);
+    c.mem_min = -par_max_double(-mem);
     c.migrated_up = par_sum_long(c.migrated_up);
     c.migrated_down = par_sum_long(c.migrated_down);
     (void)stored;

@@ -89,6 +89,7 @@ typedef struct pcd_counts {
     size_t cap;                                        /* this rank's fluid capacity */
     double imbalance_max;                              /* largest max/mean of a search */
     double gather_seconds;
+    double mem_min, mem_max; /* resident bytes at the end, over the ranks */
 } pcd_counts;
 pcd_counts pcd_counters(const pcs_solver *s);
 

@@ -623,8 +623,10 @@ static void summary_parallel(const run *r, double wall)
                 dc.stored_min, dc.stored_max, pcs_fluid_total(&r->s), dc.stored_mean, dc.cap,
                 dc.halo_min, dc.halo_max, dc.halo_mean, r->s.b->n);
         sl_info("  parallel: %ld rebalances (largest imbalance max/mean %.3f); %ld gathers of the "
-                "state on rank 0 for output and function objects, %.2f s",
-                dc.rebalances, dc.imbalance_max, dc.gathers, dc.gather_seconds);
+                "state on rank 0 for output and function objects, %.2f s; resident memory per "
+                "rank at the end %.1f-%.1f MB",
+                dc.rebalances, dc.imbalance_max, dc.gathers, dc.gather_seconds, 1e-6 * dc.mem_min,
+                1e-6 * dc.mem_max);
     }
     if (sp->size == 1) sl_info("  parallel: one rank, nothing exchanged");
     else if (sp->domain)
