@@ -229,12 +229,10 @@ static void shrink(sl_fluid *f, size_t want)
     *f = g;
 }
 
-void pcd_init(pcs_solver *s)
+/* The row tables of grid g and room for p ranks' cuts. */
+static struct pcs_domain *domain_new(const nbr_grid *g, int p)
 {
-    const nbr_grid *g = &s->grid;
-    const int p = s->split.size, me = s->split.rank;
     struct pcs_domain *d = sl_calloc(1, sizeof *d, "domain decomposition");
-    s->split.dd = d;
     d->nx = (size_t)g->nc[0];
     d->ny = g->nc[1];
     d->nz = g->nc[2];
@@ -265,6 +263,36 @@ void pcd_init(pcs_solver *s)
     d->hscnt = ints(p), d->hsdis = ints(p), d->hrcnt = ints(p), d->hrdis = ints(p);
     d->ws = ints(p), d->wsd = ints(p), d->wr = ints(p), d->wrd = ints(p);
     d->pcnt = ints(p), d->pdis = ints(p);
+    prt_fluid_init(&d->mirror);
+    nbr_list_init(&d->mbf);
+    snap_init(&d->full);
+    return d;
+}
+
+static void domain_free(struct pcs_domain *d);
+
+void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t *halo)
+{
+    struct pcs_domain *d = domain_new(&s->grid, p);
+    const sl_fluid *f = s->f;
+    for (size_t i = 0; i < f->n; i++) d->rowcount[row_of(s, d, f->x[i], f->y[i], f->z[i])]++;
+    set_cuts(d, d->rowcount, p);
+    for (int r = 0; r < p; r++) stored[r] = halo[r] = 0;
+    for (size_t i = 0; i < f->n; i++) {
+        const size_t k = row_of(s, d, f->x[i], f->y[i], f->z[i]);
+        rank[i] = d->owner[k];
+        stored[rank[i]]++;
+        for (uint32_t q = d->nstart[k]; q < d->nstart[k + 1]; q++) halo[d->nrank[q]]++;
+    }
+    for (int r = 0; r < p; r++) stored[r] += halo[r];
+    domain_free(d);
+}
+
+void pcd_init(pcs_solver *s)
+{
+    const int p = s->split.size, me = s->split.rank;
+    struct pcs_domain *d = domain_new(&s->grid, p);
+    s->split.dd = d;
     const char *th = getenv("SLUICE_PARALLEL_REBALANCE");
     d->threshold = th && *th ? atof(th) : 0.05;
     if (!(d->threshold >= 0.0))
@@ -283,15 +311,16 @@ void pcd_init(pcs_solver *s)
     d->nown = j;
     shrink(f, 2 * j + 1024); /* own and halo; grows when it must */
     d->nsorted = 0;
-    prt_fluid_init(&d->mirror);
-    nbr_list_init(&d->mbf);
-    snap_init(&d->full);
 }
 
 void pcd_free(pcs_solver *s)
 {
-    struct pcs_domain *d = s->split.dd;
-    if (!d) return;
+    if (s->split.dd) domain_free(s->split.dd);
+    s->split.dd = NULL;
+}
+
+static void domain_free(struct pcs_domain *d)
+{
     free(d->ry), free(d->rz), free(d->kof), free(d->cut), free(d->goff), free(d->boff),
         free(d->owner);
     free(d->nstart), free(d->mark), free(d->rowcount), free(d->cnt_p), free(d->all_n);
@@ -312,7 +341,6 @@ void pcd_free(pcs_solver *s)
     snap_free(&d->full);
     sl_free_aligned(d->vol_all);
     free(d);
-    s->split.dd = NULL;
 }
 
 /* ---- the start of a step: migration, rebalancing, halo ---- */

@@ -51,6 +51,10 @@ int pcd_usable(const pcs_solver *s);
  * keeps its own particles. */
 void pcd_init(pcs_solver *s);
 void pcd_free(pcs_solver *s);
+/* decomposeCase: the cuts this mode makes of s's fluid (sorted, in one
+ * process) over p ranks: each particle's rank, and per rank the
+ * particles its halo holds and those it stores (own + halo). */
+void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t *halo);
 /* Before the sort: migration, rebalancing, halo received. */
 void pcd_distribute(pcs_solver *s);
 /* After the sort and the lists: own rows, exchange lists, the boundary
