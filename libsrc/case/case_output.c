@@ -65,7 +65,7 @@ void out_free(case_output *o)
 
 static int write_fluid(const char *path, const pcs_solver *s, const vtk_options *opt, sl_err *err)
 {
-    const sl_fluid *f = s->f;
+    const sl_fluid *f = pcs_view_of(s).f; /* -parallel: the state gathered on rank 0 */
     const double rho0 = s->prm.rho0;
     double *derr = sl_alloc_aligned(f->n * sizeof *derr, "density error output");
     double *pr = sl_alloc_aligned(f->n * sizeof *pr, "pressure ratio output");

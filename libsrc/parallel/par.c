@@ -291,3 +291,129 @@ void par_alltoallv_double(const double *s, const int *scnt, const int *sdis, dou
     (void)rcnt;
     for (int k = 0; k < scnt[0]; k++) r[rdis[0] + k] = s[sdis[0] + k];
 }
+
+#ifdef SL_HAVE_MPI
+static MPI_Request *reqs_; /* 2 per rank, for par_exchange_double */
+#endif
+
+void par_exchange_double(const double *s, const int *scnt, const int *sdis, double *r,
+                         const int *rcnt, const int *rdis)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ > 1) {
+        if (!reqs_) {
+            reqs_ = malloc(2 * (size_t)size_ * sizeof *reqs_);
+            if (!reqs_) sl_fatal("out of memory");
+        }
+        const double t0 = MPI_Wtime();
+        int nr = 0;
+        long msgs = 0, got = 0;
+        for (int q = 0; q < size_; q++)
+            if (q != rank_ && rcnt[q] > 0) {
+                MPI_Irecv(r + rdis[q], rcnt[q], MPI_DOUBLE, q, 17, MPI_COMM_WORLD, &reqs_[nr++]);
+                msgs++;
+                got += rcnt[q];
+            }
+        for (int q = 0; q < size_; q++)
+            if (q != rank_ && scnt[q] > 0)
+                MPI_Isend(s + sdis[q], scnt[q], MPI_DOUBLE, q, 17, MPI_COMM_WORLD, &reqs_[nr++]);
+        MPI_Waitall(nr, reqs_, MPI_STATUSES_IGNORE);
+        count_.seconds += MPI_Wtime() - t0;
+        count_.calls++;
+        count_.messages += msgs;
+        count_.bytes += (double)got * (double)sizeof(double);
+        return;
+    }
+#endif
+    (void)s, (void)scnt, (void)sdis, (void)r, (void)rcnt, (void)rdis;
+}
+
+void par_allgather_long(long v, long *all)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ > 1) {
+        COUNTED(size_ - 1, (size_t)(size_ - 1) * sizeof v,
+                MPI_Allgather(&v, 1, MPI_LONG, all, 1, MPI_LONG, MPI_COMM_WORLD));
+        return;
+    }
+#endif
+    all[0] = v;
+}
+
+void par_sum_longs(long *v, size_t n)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ > 1 && n) {
+        if (n > (size_t)2147483647)
+            sl_fatal("par_sum_longs: %zu values exceed MPI's int counts", n);
+        COUNTED(size_ - 1, (size_t)(size_ - 1) * n * sizeof *v,
+                MPI_Allreduce(MPI_IN_PLACE, v, (int)n, MPI_LONG, MPI_SUM, MPI_COMM_WORLD));
+    }
+#else
+    (void)v, (void)n;
+#endif
+}
+
+void par_max_longs(long *v, size_t n)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ > 1 && n) {
+        if (n > (size_t)2147483647)
+            sl_fatal("par_max_longs: %zu values exceed MPI's int counts", n);
+        COUNTED(size_ - 1, (size_t)(size_ - 1) * n * sizeof *v,
+                MPI_Allreduce(MPI_IN_PLACE, v, (int)n, MPI_LONG, MPI_MAX, MPI_COMM_WORLD));
+    }
+#else
+    (void)v, (void)n;
+#endif
+}
+
+void par_sum_doubles_root(double *v, size_t n)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ > 1 && n) {
+        if (n > (size_t)2147483647)
+            sl_fatal("par_sum_doubles_root: %zu values exceed MPI's int counts", n);
+        COUNTED(rank_ ? 0 : size_ - 1, rank_ ? 0 : (size_t)(size_ - 1) * n * sizeof *v,
+                MPI_Reduce(rank_ ? v : MPI_IN_PLACE, v, (int)n, MPI_DOUBLE, MPI_SUM, 0,
+                           MPI_COMM_WORLD));
+    }
+#else
+    (void)v, (void)n;
+#endif
+}
+
+void par_gatherv_root(const double *mine, int n, double *all, const int *cnt, const int *dis)
+{
+#ifdef SL_HAVE_MPI
+    if (size_ > 1) {
+        long got = 0;
+        for (int q = 0; q < size_; q++) got += q == rank_ ? 0 : cnt[q];
+        COUNTED(rank_ ? 0 : size_ - 1, rank_ ? 0 : (size_t)got * sizeof(double),
+                MPI_Gatherv(mine, n, MPI_DOUBLE, all, cnt, dis, MPI_DOUBLE, 0, MPI_COMM_WORLD));
+        return;
+    }
+#endif
+    (void)cnt;
+    for (int k = 0; k < n; k++) all[dis[0] + k] = mine[k];
+}
+
+void par_send_double(double v, int to)
+{
+#ifdef SL_HAVE_MPI
+    COUNTED(0, 0, MPI_Send(&v, 1, MPI_DOUBLE, to, 18, MPI_COMM_WORLD));
+#else
+    (void)v, (void)to;
+#endif
+}
+
+double par_recv_double(int from)
+{
+    double v = 0.0;
+#ifdef SL_HAVE_MPI
+    COUNTED(1, sizeof v, MPI_Recv(&v, 1, MPI_DOUBLE, from, 18, MPI_COMM_WORLD, MPI_STATUS_IGNORE));
+#else
+    (void)from;
+#endif
+    return v;
+}

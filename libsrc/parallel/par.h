@@ -56,6 +56,30 @@ void par_alltoallv_u32(const uint32_t *s, const int *scnt, const int *sdis, uint
 void par_alltoallv_double(const double *s, const int *scnt, const int *sdis, double *r,
                           const int *rcnt, const int *rdis);
 
+/* Phase 2 (domain mode, solver/pcs_domain.h): point-to-point exchange,
+ * scnt[r] doubles from s + sdis[r] to rank r and rcnt[r] from rank r into
+ * r + rdis[r]; only the pairs with a count exchange a message (neighbour
+ * ranks), so the cost does not grow with the job's size.  The counts of
+ * this rank to itself must be 0.  Both sides must know the counts (a
+ * par_alltoall_int of them first, when they change). */
+void par_exchange_double(const double *s, const int *scnt, const int *sdis, double *r,
+                         const int *rcnt, const int *rdis);
+/* One double to / from one rank (blocking; a chain of running sums). */
+void par_send_double(double v, int to);
+double par_recv_double(int from);
+/* One long per rank to every rank: all[r] is rank r's v. */
+void par_allgather_long(long v, long *all);
+/* Every rank's v[0..n) summed (exact) / maximised, in place, on every rank. */
+void par_sum_longs(long *v, size_t n);
+void par_max_longs(long *v, size_t n);
+/* Every rank's v[0..n) summed on rank 0, in place (the other ranks' v is
+ * left as it was).  Used where one rank alone holds a non-zero value of
+ * each entry, so that the sum is that value exactly. */
+void par_sum_doubles_root(double *v, size_t n);
+/* Rank r's n doubles (cnt[r] == n) into all + dis[r] on rank 0 (all is
+ * read on rank 0 only). */
+void par_gatherv_root(const double *mine, int n, double *all, const int *cnt, const int *dis);
+
 /* Rank 0's bytes to every rank. */
 void par_bcast(void *buf, size_t bytes);
 void par_barrier(void);

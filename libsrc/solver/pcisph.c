@@ -12,6 +12,7 @@
 #include "core/sl_reduce.h"
 #include "kernel/sph_sums.h"
 #include "parallel/par.h"
+#include "solver/pcs_domain.h"
 #include "solver/pcs_parallel.h"
 
 /* Accumulate the wall-clock time of `body` in s->time.<phase>. */
@@ -415,20 +416,24 @@ static inline __attribute__((always_inline)) void pressure_one(const pass_ctx *c
     {                                                                                             \
         const sl_fluid *f = s->f;                                                                 \
         const pass_ctx c = density_pass_begin(s, f->xs, f->ys, f->zs);                            \
-        const size_t nb = (f->n + SL_REDUCE_BLOCK - 1) / SL_REDUCE_BLOCK;                         \
+        const size_t nb = (pcs_fluid_total(s) + SL_REDUCE_BLOCK - 1) / SL_REDUCE_BLOCK;           \
         const size_t i0 = s->split.row[s->split.rank], i1 = s->split.row[s->split.rank + 1];      \
-        const size_t b0 = i0 / SL_REDUCE_BLOCK;                                                   \
-        const size_t b1 = i1 > i0 ? (i1 + SL_REDUCE_BLOCK - 1) / SL_REDUCE_BLOCK : b0;            \
+        /* blocks of the serial order: own row i is row i + gs of it */                           \
+        const ptrdiff_t gs = s->split.gshift;                                                     \
+        const size_t g0 = (size_t)((ptrdiff_t)i0 + gs), g1 = (size_t)((ptrdiff_t)i1 + gs);        \
+        const size_t b0 = g0 / SL_REDUCE_BLOCK;                                                   \
+        const size_t b1 = g1 > g0 ? (g1 + SL_REDUCE_BLOCK - 1) / SL_REDUCE_BLOCK : b0;            \
         double *restrict part = s->err_block;                                                     \
         double emax = 0.0;                                                                        \
         _Pragma("omp parallel reduction(max : emax)")                                             \
         {                                                                                         \
             _Pragma("omp for schedule(dynamic, 1) nowait") for (size_t blk = b0; blk < b1; blk++) \
             {                                                                                     \
-                const size_t bl = blk * SL_REDUCE_BLOCK, lo = bl > i0 ? bl : i0;                  \
-                const size_t hi = bl + SL_REDUCE_BLOCK < i1 ? bl + SL_REDUCE_BLOCK : i1;          \
+                const size_t bl = blk * SL_REDUCE_BLOCK, lo = bl > g0 ? bl : g0;                  \
+                const size_t hi = bl + SL_REDUCE_BLOCK < g1 ? bl + SL_REDUCE_BLOCK : g1;          \
                 double sum = 0.0;                                                                 \
-                for (size_t i = lo; i < hi; i++) {                                                \
+                for (size_t gi = lo; gi < hi; gi++) {                                             \
+                    const size_t i = (size_t)((ptrdiff_t)gi - gs);                                \
                     const double e = predict_one(&c, i, M##_wall_density, M##_density);           \
                     emax = e > emax ? e : emax;                                                   \
                     sum += e;                                                                     \
@@ -527,6 +532,10 @@ void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b, c
     for (size_t i = 0; i < f->n; i++) f->rho[i] = p->rho0; /* until the first pass */
     split_init(&s->split, b->n);
     s->split.halo = pcx_usable(s);
+    if (s->split.halo && pcd_usable(s)) { /* every rank keeps its own particles only */
+        s->split.domain = 1;
+        pcd_init(s);
+    }
     pcs_set_dt(s, dt);
 }
 
@@ -545,6 +554,7 @@ void pcs_free(pcs_solver *s)
     free(s->dens);
     dom_halo_free(&s->halo);
     pcx_free(s);
+    pcd_free(s);
     free(s->split.owner);
     free(s->split.row);
     free(s->split.act);
@@ -555,12 +565,16 @@ void pcs_free(pcs_solver *s)
 /* Scratch sized for the fluid's capacity (which an emitter grows). */
 static void ensure_scratch(pcs_solver *s)
 {
+    /* the blocks of the serial order (domain mode: of every rank's rows) */
+    const size_t rows = s->f->cap > s->split.nglobal ? s->f->cap : s->split.nglobal;
+    if (s->block_cap < rows / SL_REDUCE_BLOCK + 1) {
+        s->block_cap = rows / SL_REDUCE_BLOCK + 1;
+        sl_free_aligned(s->err_block);
+        s->err_block = sl_alloc_aligned(s->block_cap * sizeof *s->err_block, "density error sums");
+    }
     if (s->err_cap < s->f->cap) {
         sl_free_aligned(s->err);
         s->err = sl_alloc_aligned(s->f->cap * sizeof *s->err, "density error");
-        sl_free_aligned(s->err_block);
-        s->err_block = sl_alloc_aligned((s->f->cap / SL_REDUCE_BLOCK + 1) * sizeof *s->err_block,
-                                        "density error sums");
         if (s->prm.max_iter > s->prm.min_iter) {
             sl_free_aligned(s->ap_best);
             s->ap_best = sl_alloc_aligned(3 * s->f->cap * sizeof *s->ap_best, "pressure force");
@@ -591,6 +605,10 @@ static void move_world(pcs_solver *s)
 
 void pcs_find_neighbours(pcs_solver *s)
 {
+    if (s->split.domain) { /* migration, rebalancing, the halo from its owners */
+        pcd_distribute(s);
+        ensure_scratch(s);
+    }
     PHASE(s, sort, nbr_sort_fluid(&s->grid, s->f));
     if (dom_halo_on(&s->halo)) { /* periodic images after the owned particles */
         PHASE(s, halo, dom_fluid_images(&s->halo, &s->grid, s->f, s->b));
@@ -598,6 +616,10 @@ void pcs_find_neighbours(pcs_solver *s)
     }
     PHASE(s, list_ff, nbr_build_fluid(&s->grid, s->f, s->b, &s->ff, &s->fb));
     PHASE(s, list_bf, nbr_transpose(&s->fb, s->b->n, &s->bf, s->active, &s->nactive));
+    if (s->split.domain) {
+        pcd_after_search(s);
+        return;
+    }
     split_rows(s);
     if (s->split.halo) pcx_build(s);
 }
@@ -717,14 +739,14 @@ static int guard_stops(pcs_solver *s, pcs_guard *g, double emax, int k)
  * compressions. */
 static double average_of(const pcs_solver *s, double sum)
 {
-    const size_t n = s->f->n;
+    const size_t n = pcs_fluid_total(s);
     const double inv_n = n ? 1.0 / (double)n : 0.0;
     return sum * inv_n / s->prm.rho0;
 }
 
 static double average_error(const pcs_solver *s, const double *err)
 {
-    return average_of(s, sl_sum(err, s->f->n));
+    return average_of(s, sl_sum(err, pcs_fluid_total(s)));
 }
 
 /* Whether a prediction with largest error emax (and average from
@@ -739,7 +761,7 @@ static int reached_eta(const pcs_solver *s, double emax)
 /* The statistics of the last prediction (err_max: emax). */
 static void solve_stats(const pcs_solver *s, pcs_stats *st, int k, double emax)
 {
-    const size_t n = s->f->n;
+    const size_t n = pcs_fluid_total(s);
     const double rho0 = s->prm.rho0;
     st->iterations = k;
     st->converged = reached_eta(s, emax);
@@ -748,11 +770,12 @@ static void solve_stats(const pcs_solver *s, pcs_stats *st, int k, double emax)
     if (s->prm.method->wall_density) {
         st->vol_avg = st->err_avg;
         st->vol_max = st->err_max;
-    } else {
-        st->vol_avg = average_error(s, s->err_vol);
-        st->vol_max = n ? sl_max(s->err_vol, n) / rho0 : 0.0;
+    } else { /* domain mode: every rank's rows, gathered */
+        const double *ev = s->split.domain ? pcd_err_vol(s) : s->err_vol;
+        st->vol_avg = n ? average_error(s, ev) : 0.0;
+        st->vol_max = n ? sl_max(ev, n) / rho0 : 0.0;
     }
-    st->nactive = s->nactive;
+    st->nactive = s->split.domain ? s->split.nactive_all : s->nactive;
 }
 
 /* What the next pass reads of the halo copies, from their originals:
@@ -772,7 +795,7 @@ static void halo_refresh(pcs_solver *s, int what)
  * most maxIterations). */
 static void pressure_solve(pcs_solver *s, pcs_stats *st)
 {
-    pcs_guard g = {s->prm.max_iter > s->prm.min_iter && s->f->n > 0, HUGE_VAL};
+    pcs_guard g = {s->prm.max_iter > s->prm.min_iter && pcs_fluid_total(s) > 0, HUGE_VAL};
     double emax;
     int k = 0;
     for (;;) {
@@ -850,16 +873,21 @@ void pcs_step(pcs_solver *s, pcs_stats *st)
 
 void pcs_post_step(pcs_solver *s, double t, double dt)
 {
+    const size_t n0 = s->f->n;
     eff_view v = effect_view(s, t, dt, NULL, NULL, NULL);
     eff_run(s->eff, EFF_POST_STEP, &v);
+    if (s->split.domain) pcd_keep_emitted(s, n0); /* emitted alike on every rank */
 }
 
 pcs_view pcs_view_of(const pcs_solver *s)
 {
-    return (pcs_view){.f = s->f,
+    /* domain mode: rank 0 shows the state gathered (pcs_gather) */
+    const sl_fluid *mf = pcd_mirror(s);
+    const nbr_list *mbf = pcd_mirror_bf(s);
+    return (pcs_view){.f = mf ? mf : s->f,
                       .b = s->b,
-                      .grid = &s->grid,
-                      .bf = &s->bf,
+                      .grid = mf ? pcd_mirror_grid(s) : &s->grid,
+                      .bf = mbf ? mbf : &s->bf,
                       .k = s->k,
                       .h = s->h,
                       .r0 = s->prm.r0,
@@ -875,4 +903,15 @@ void pcs_compute_density(pcs_solver *s)
     ensure_scratch(s);
     pcs_find_neighbours(s);
     s->passes->density(s);
+    if (s->split.domain) { /* the own rows, then the whole state on rank 0 */
+        pcd_keep_own(s);
+        pcd_gather(s);
+    }
+}
+
+size_t pcs_fluid_total(const pcs_solver *s) { return s->split.domain ? s->split.nglobal : s->f->n; }
+
+void pcs_gather(pcs_solver *s)
+{
+    if (s->split.domain) pcd_gather(s);
 }

@@ -105,6 +105,13 @@ typedef struct pcs_split {
     size_t owner_cap;
     long moved_up, moved_down;         /* particles whose rank rose / fell between searches */
     double rows_min_sum, rows_max_sum; /* their sums over those searches (balance) */
+    /* domain mode (phase 2, solver/pcs_domain.h; with halo set too): a rank
+     * stores its own particles and their halo only */
+    int domain;
+    struct pcs_domain *dd;
+    ptrdiff_t gshift;   /* own row i is row i + gshift of the serial order */
+    size_t nglobal;     /* fluid particles of all ranks */
+    size_t nactive_all; /* active boundary particles of all ranks */
 } pcs_split;
 
 typedef struct pcs_solver pcs_solver;
@@ -128,6 +135,7 @@ struct pcs_solver {
     double *err;       /* per-fluid-particle compression (scratch) */
     double *err_block; /* its sums by blocks of SL_REDUCE_BLOCK (last prediction) */
     double err_sum;    /* their sum in block order */
+    size_t block_cap;  /* entries of err_block */
     double *err_vol;   /* methods without wall density: the same with the wall's share */
     size_t err_cap;
     double *ap_best; /* pressure force of the best iteration (3 x cap) */
@@ -187,7 +195,17 @@ double pcs_pass_density(pcs_solver *s);
 void pcs_pass_pressure(pcs_solver *s);
 
 /* Density of every fluid particle from the current positions x(t) (for
- * output; uses the lists of the last step or rebuilds them). */
+ * output; uses the lists of the last step or rebuilds them).  -parallel's
+ * domain mode: the state is then gathered on rank 0 (pcs_view_of). */
 void pcs_compute_density(pcs_solver *s);
+
+/* The fluid particles of the case (all ranks'; s->f->n is this rank's in
+ * -parallel's domain mode). */
+size_t pcs_fluid_total(const pcs_solver *s);
+/* -parallel's domain mode (collective; nothing otherwise): the state of
+ * every rank gathered on rank 0 in the serial order, where pcs_view_of
+ * shows it to function objects and output (done by pcs_compute_density
+ * too; nothing when already gathered since the last step). */
+void pcs_gather(pcs_solver *s);
 
 #endif

@@ -8,6 +8,7 @@
 #include "core/sl_mem.h"
 #include "core/sl_reduce.h"
 #include "parallel/par.h"
+#include "solver/pcs_domain.h"
 
 /* The halo lists of one search and the buffers of the exchanges. */
 struct pcs_halo_x {
@@ -167,6 +168,10 @@ void pcx_build(pcs_solver *s)
 
 void pcx_exchange_predicted(pcs_solver *s)
 {
+    if (s->split.domain) {
+        pcd_exchange_predicted(s);
+        return;
+    }
     struct pcs_halo_x *h = s->split.hx;
     const double t0 = omp_get_wtime();
     sl_fluid *f = s->f;
@@ -210,6 +215,7 @@ static size_t pieces(size_t lo, size_t hi, size_t n, double *out, const double *
 
 double pcx_after_density(pcs_solver *s, double emax)
 {
+    if (s->split.domain) return pcd_after_density(s, emax);
     pcs_split *sp = &s->split;
     struct pcs_halo_x *h = sp->hx;
     const double t0 = omp_get_wtime();
@@ -273,6 +279,10 @@ double pcx_after_density(pcs_solver *s, double emax)
 
 void pcx_after_integrate(pcs_solver *s)
 {
+    if (s->split.domain) { /* nothing gathered: the own rows kept */
+        pcd_keep_own(s);
+        return;
+    }
     pcs_split *sp = &s->split;
     const double t0 = omp_get_wtime();
     sl_fluid *f = s->f;

@@ -1,6 +1,7 @@
 /* pcs_snapshot: copies of the step state (see pcs_snapshot.h). */
 #include "solver/pcs_snapshot.h"
 #include "core/sl_mem.h"
+#include "solver/pcs_domain.h"
 
 #include <string.h>
 
@@ -22,6 +23,12 @@ static void snap_reserve(pcs_snapshot *s, size_t n)
     for (int k = 0; k < 6; k++) *a[k] = sl_alloc_aligned(n * sizeof(double), "state snapshot");
     s->id = sl_alloc_aligned(n * sizeof *s->id, "state snapshot");
     s->cap = n;
+}
+
+void snap_resize(pcs_snapshot *s, size_t n)
+{
+    snap_reserve(s, n);
+    s->n = n;
 }
 
 void snap_take(pcs_snapshot *s, const sl_fluid *f, double time, double dt, long step)
@@ -65,4 +72,14 @@ int snap_equal(const pcs_snapshot *a, const pcs_snapshot *b)
     return !memcmp(a->x, b->x, bytes) && !memcmp(a->y, b->y, bytes) && !memcmp(a->z, b->z, bytes) &&
         !memcmp(a->vx, b->vx, bytes) && !memcmp(a->vy, b->vy, bytes) &&
         !memcmp(a->vz, b->vz, bytes) && !memcmp(a->id, b->id, a->n * sizeof *a->id);
+}
+
+const pcs_snapshot *pcs_whole_snapshot(pcs_solver *s, const pcs_snapshot *mine)
+{
+    return s->split.domain ? pcd_full_snapshot(s, mine) : mine;
+}
+
+void pcs_own_snapshot(const pcs_solver *s, pcs_snapshot *snap)
+{
+    if (s->split.domain) pcd_localize_snapshot(s, snap);
 }

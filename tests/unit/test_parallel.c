@@ -137,7 +137,13 @@ static void test_gather_mode_and_becker(void **state)
     same_output("parGatherSerial", "parGather2");
     assert_int_equal(system("grep -q 'parallel: gather mode' tests/output/parGather2/log.pcisph"),
                      0);
-    assert_int_equal(system("grep -q 'parallel: halo mode' tests/output/parDam2/log.pcisph"), 0);
+    assert_int_equal(system("grep -q 'parallel: domain mode' tests/output/parDam2/log.pcisph"), 0);
+    setenv("SLUICE_PARALLEL_EXCHANGE", "halo", 1);
+    rc = run_np("tests/cases/damBreakShort", "parHalo3", dam, 3);
+    unsetenv("SLUICE_PARALLEL_EXCHANGE");
+    assert_int_equal(rc, 0);
+    same_output("parGatherSerial", "parHalo3");
+    assert_int_equal(system("grep -q 'parallel: halo mode' tests/output/parHalo3/log.pcisph"), 0);
     assert_int_equal(run_np("tests/cases/damBreakShort", "parBeckerSerial", edit, 0), 0);
     assert_int_equal(run_np("tests/cases/damBreakShort", "parBecker3", edit, 3), 0);
     same_output("parBeckerSerial", "parBecker3");
@@ -161,7 +167,7 @@ static void test_density_and_tension_effects(void **state)
     assert_int_equal(run_np("tests/cases/damBreakShort", "parBKSerial", edit, 0), 0);
     assert_int_equal(run_np("tests/cases/damBreakShort", "parBK3", edit, 3), 0);
     same_output("parBKSerial", "parBK3");
-    assert_int_equal(system("grep -q 'parallel: halo mode' tests/output/parBK3/log.pcisph"), 0);
+    assert_int_equal(system("grep -q 'parallel: domain mode' tests/output/parBK3/log.pcisph"), 0);
     const char *drop = "sed -i 's/^endTime .*/endTime 0.02;/; s/^writeInterval .*/writeInterval "
                        "0.01;/' system/controlDict && (grep -q '^numberOfThreads' "
                        "system/controlDict && sed -i 's/^numberOfThreads .*/numberOfThreads 1;/' "
@@ -207,6 +213,40 @@ static void test_emitter(void **state)
     assert_int_equal(system("grep -Eq 'changed rank between searches: [1-9][0-9]* to a higher "
                             "rank, [1-9][0-9]* to a lower' tests/output/parFill3/log.pcisph"),
                      0);
+}
+
+/* Domain mode (phase 2): the dam break on 3 ranks with a rebalancing
+ * threshold of 0.2 %: the collapse moves the fluid between the ranks'
+ * rows, the cuts are moved (rebalances > 0) and particles migrate both
+ * ways (counted), and the files are the serial run's; each rank stores
+ * fewer particles than the case holds (its own and its halo). */
+static void test_domain_migration_rebalance(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    const char *edit = "sed -i 's/^endTime .*/endTime 0.06;/; s/^writeInterval .*/writeInterval "
+                       "0.03;/; s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict";
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parMigrateSerial", edit, 0), 0);
+    setenv("SLUICE_PARALLEL_REBALANCE", "0.002", 1);
+    int rc = run_np("tests/cases/damBreakShort", "parMigrate3", edit, 3);
+    unsetenv("SLUICE_PARALLEL_REBALANCE");
+    assert_int_equal(rc, 0);
+    same_output("parMigrateSerial", "parMigrate3");
+    const char *log = "tests/output/parMigrate3/log.pcisph";
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "grep -Eq 'parallel: [1-9][0-9]* rebalances' %s", log);
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd,
+             "grep -Eq 'changed rank between searches: [1-9][0-9]* to a higher rank, [1-9][0-9]* "
+             "to a lower one .*migrated' %s",
+             log);
+    assert_int_equal(system(cmd), 0);
+    /* "stored per rank at the last search: min A, max B of N": B < N */
+    snprintf(cmd, sizeof cmd,
+             "sed -En 's/.*stored per rank at the last search: min [0-9]+, max ([0-9]+) "
+             "of ([0-9]+).*/\\1 \\2/p' %s | awk '{ exit !($1 > 0 && $1 < $2) }'",
+             log);
+    assert_int_equal(system(cmd), 0);
 }
 
 /* Restart files written by 2 ranks, continued on 3: the serial run's
@@ -310,6 +350,7 @@ int main(void)
         cmocka_unit_test(test_density_and_tension_effects),
         cmocka_unit_test(test_moving_boundary),
         cmocka_unit_test(test_emitter),
+        cmocka_unit_test(test_domain_migration_rebalance),
         cmocka_unit_test(test_restart_2_then_3),
         cmocka_unit_test(test_periodic),
         cmocka_unit_test(test_mpirun_without_parallel),

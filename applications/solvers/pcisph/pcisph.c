@@ -40,6 +40,7 @@
 #include "io/time_dir.h"
 #include "parallel/par.h"
 #include "solver/pcisph.h"
+#include "solver/pcs_domain.h"
 #include "solver/pcs_history.h"
 #include "timestep/timestep.h"
 
@@ -145,7 +146,7 @@ static void print_world(const run *r, const char *dt_rule)
     const sl_case *c = &r->c;
     const pcs_solver *s = &r->s;
     sl_info("Case %s", c->dir);
-    sl_info("  fluid particles     %zu", c->fluid.n);
+    sl_info("  fluid particles     %zu", pcs_fluid_total(s));
     sl_info("  boundary particles  %zu (%zu shapes, method %s)",
             c->boundary.n - c->boundary.nimages, c->nshapes, c->prm.method->name);
     if (c->prm.periodic.axes) {
@@ -172,9 +173,10 @@ static void print_world(const run *r, const char *dt_rule)
     sl_info("  effects             %s", off ? list : "none");
     sl_info("  threads             %d", omp_get_max_threads());
     if (r->parallel)
-        sl_info("  ranks               %d (MPI; replicated state, the pressure solve's rows "
-                "shared out: doc/parallel.md)",
-                par_size());
+        sl_info("  ranks               %d (MPI; %s: doc/parallel.md)", par_size(),
+                s->split.domain ? "domain mode, each rank stores its own particles and their halo"
+                    : s->split.halo ? "halo mode, replicated state"
+                                    : "gather mode, replicated state");
 }
 
 /* The status line: simulated time against endTime, steps per second. */
@@ -277,7 +279,9 @@ static void write_time(run *r)
     const pcs_run_state *prev = hist_last(&r->hist);
     const pcs_snapshot *snaps[2] = {&r->wsnap, prev ? &prev->snap : NULL};
     pcs_compute_density(&r->s); /* sorts: the snapshot is taken after it */
-    snap_take(&r->wsnap, r->s.f, r->t, r->s.dt, r->step);
+    /* -parallel's domain mode: the whole state, gathered on rank 0 */
+    snap_take(&r->wsnap, pcs_view_of(&r->s).f, r->t, r->s.dt, r->step);
+    if (prev) snaps[1] = pcs_whole_snapshot(&r->s, &prev->snap);
     blob_pack(r);
     if (r->root) {
         rec_flush(&r->rec);
@@ -486,7 +490,8 @@ static void count_accepted(run *r, const pcs_stats *st)
 {
     run_totals *n = &r->session;
     n->accepted++;
-    if (r->s.f->n) n->active_ratio += (double)st->nactive / (double)r->s.f->n;
+    const size_t nf = pcs_fluid_total(&r->s);
+    if (nf) n->active_ratio += (double)st->nactive / (double)nf;
     if (st->err_avg > n->max_err_avg) n->max_err_avg = st->err_avg;
     if (st->err_max > n->max_err_max) n->max_err_max = st->err_max;
 }
@@ -601,11 +606,31 @@ static void summary_parallel(const run *r, double wall)
             "searches %.0f / %.0f; %ld of %ld searches left a rank without fluid)",
             sp->size, omp_get_max_threads(), sp->rows_min, sp->rows_max,
             sp->rows_min_sum / searches, sp->rows_max_sum / searches, sp->empty, sp->steps);
-    if (sp->size > 1)
+    if (sp->size > 1 && !sp->domain)
         sl_info("  parallel: particles that changed rank between searches: %ld to a higher rank, "
                 "%ld to a lower one (%.1f per search)",
                 sp->moved_up, sp->moved_down, (double)(sp->moved_up + sp->moved_down) / searches);
+    if (sp->domain) {
+        const pcd_counts dc = pcd_counters(&r->s);
+        sl_info("  parallel: particles that changed rank between searches: %ld to a higher rank, "
+                "%ld to a lower one (%.1f per search; migrated)",
+                dc.migrated_up, dc.migrated_down,
+                (double)(dc.migrated_up + dc.migrated_down) / searches);
+        sl_info("  parallel: domain mode: each rank stores its own particles and their halo only "
+                "(particles stored per rank at the last search: min %zu, max %zu of %zu; this "
+                "rank's mean %.0f, capacity %zu); halo received per rank min %zu, max %zu (this "
+                "rank's mean %.0f); boundary particles replicated (%zu)",
+                dc.stored_min, dc.stored_max, pcs_fluid_total(&r->s), dc.stored_mean, dc.cap,
+                dc.halo_min, dc.halo_max, dc.halo_mean, r->s.b->n);
+        sl_info("  parallel: %ld rebalances (largest imbalance max/mean %.3f); %ld gathers of the "
+                "state on rank 0 for output and function objects, %.2f s; resident memory per "
+                "rank at the end %.1f-%.1f MB",
+                dc.rebalances, dc.imbalance_max, dc.gathers, dc.gather_seconds, 1e-6 * dc.mem_min,
+                1e-6 * dc.mem_max);
+    }
     if (sp->size == 1) sl_info("  parallel: one rank, nothing exchanged");
+    else if (sp->domain)
+        ; /* above */
     else if (sp->halo)
         sl_info("  parallel: halo mode: each PCISPH iteration exchanges x*, p/rho^2 and rho of the "
                 "halo only (rows received per rank: %zu at the last search, mean %.0f, largest "
@@ -655,9 +680,10 @@ static void summary(run *r)
     }
     const double stepping = wall - r->write_wall;
     if (r->parallel) summary_parallel(r, wall);
-    sl_info("  %.3g particle-steps/s (%d threads)",
-            wall > 0 ? (double)r->c.fluid.n * (double)n->steps / wall : 0.0, omp_get_max_threads());
-    const double work = (double)r->c.fluid.n * (double)n->steps;
+    const double nf = (double)pcs_fluid_total(&r->s);
+    sl_info("  %.3g particle-steps/s (%d threads)", wall > 0 ? nf * (double)n->steps / wall : 0.0,
+            omp_get_max_threads());
+    const double work = nf * (double)n->steps;
     const double cpu = cpu_seconds() - r->cpu0 - r->write_cpu;
     sl_info("  without output (%.2f s writing): %.2f s, %.3g particle-steps/s, %.3g per thread; "
             "%.2f CPU s, %.3g particle-steps per CPU second",
@@ -764,6 +790,8 @@ int main(int argc, char **argv)
     fo_list *fo = fo_read(&r.c);
     pcs_init(&r.s, &r.c.prm, &r.c.fluid, &r.c.boundary, r.c.lo, r.c.hi, r.ctl.dt, &r.c.effects);
     pcs_place_world(&r.s, r.t);
+    if (restarted && hist_last(&r.hist)) /* domain mode: this rank's part of it */
+        pcs_own_snapshot(&r.s, &hist_slot(&r.hist, 0)->snap);
     print_world(&r, rule);
     r.t_end = r.c.ctl.end_time;
     r.wall0 = omp_get_wtime();
@@ -773,6 +801,8 @@ int main(int argc, char **argv)
     out_name(&r.out, r.t, start_name, sizeof start_name);
     if (r.root) rec_open(&r.rec, &r.c, start_name);
     if (!restarted) write_time(&r);
+    const int fo_on = fo != NULL; /* the same on every rank: they gather for rank 0 */
+    if (fo_on) pcs_gather(&r.s);
     const pcs_view view = pcs_view_of(&r.s); /* what the function objects read */
     if (!r.root) {                           /* the function objects' files are rank 0's */
         fo_free(fo);
@@ -789,6 +819,7 @@ int main(int argc, char **argv)
     while (r.t < r.t_end - 1e-9 * r.ctl.dt) {
         advance(&r);
         poll_write_requests(&r);
+        if (fo_on) pcs_gather(&r.s); /* -parallel's domain mode: on rank 0 */
         fo_execute(fo, &view, r.t, r.step, r.last_write == r.t);
         progress(&r);
         if (stop_requested) {

@@ -6,9 +6,13 @@
  *
  *   decomposeCase [-case <dir>] -np <N>
  *
- * Three partitions of the fluid at the start time, by particle count:
- *   rows   contiguous ranges of the cell-sorted rows: what pcisph
- *          -parallel computes per rank today (phase 1, replicated state);
+ * Four partitions of the fluid at the start time, by particle count:
+ *   domain whole rows of grid cells (x-rows in Morton order of (y, z)) cut
+ *          by count: what pcisph -parallel's domain mode owns per rank
+ *          (phase 2, solver/pcs_domain.h); it also prints the particles a
+ *          rank stores there (own + the halo rows, two cells deep);
+ *   rows   contiguous ranges of the cell-sorted rows: what the halo and
+ *          gather modes compute per rank (phase 1, replicated state);
  *   slabs  slabs along the longest axis of the fluid's bounding box;
  *   rcb    recursive coordinate bisection (each cut across the longest
  *          axis of its part, at the count that gives each side its share
@@ -20,7 +24,7 @@
  * exchange (x* and p/rho^2: 4 doubles per halo particle) against the
  * replicated phase's gathers (7 doubles per row of every other rank).
  * Writes <case>/postProcessing/decomposeCase/fluid.vtu (point data
- * rowsRank, slabsRank, rcbRank) for ParaView.
+ * domainRank, rowsRank, slabsRank, rcbRank) for ParaView.
  */
 #include "app/app.h"
 #include "case/case.h"
@@ -29,6 +33,7 @@
 #include "io/time_dir.h"
 #include "io/vtk_writer.h"
 #include "solver/pcisph.h"
+#include "solver/pcs_domain.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -217,8 +222,8 @@ static void report(const char *name, const part_stats *st, size_t n, int p)
            st->nbr_mean, halo_bytes, p > 1 ? gather_bytes : 0.0);
 }
 
-static void write_vtu(const sl_case *c, const pcs_solver *s, const int *r_rows, const int *r_slabs,
-                      const int *r_rcb)
+static void write_vtu(const sl_case *c, const pcs_solver *s, const int *r_dom, const int *r_rows,
+                      const int *r_slabs, const int *r_rcb)
 {
     sl_err err;
     char dir[4096], path[4200];
@@ -227,13 +232,16 @@ static void write_vtu(const sl_case *c, const pcs_solver *s, const int *r_rows, 
     snprintf(path, sizeof path, "%s/fluid.vtu", dir);
     vtk_options opt;
     vtk_options_default(&opt);
-    const vtk_field fields[] = {{"rowsRank", 1, VTK_INT32, {r_rows, NULL, NULL}},
+    const vtk_field fields[] = {{"domainRank", 1, VTK_INT32, {r_dom, NULL, NULL}},
+                                {"rowsRank", 1, VTK_INT32, {r_rows, NULL, NULL}},
                                 {"slabsRank", 1, VTK_INT32, {r_slabs, NULL, NULL}},
                                 {"rcbRank", 1, VTK_INT32, {r_rcb, NULL, NULL}}};
     const sl_fluid *f = s->f;
-    if (vtk_write_points(path, f->n, f->x, f->y, f->z, fields, 3, &opt, &err))
+    if (vtk_write_points(path, f->n, f->x, f->y, f->z, fields, 4, &opt, &err))
         sl_fatal("%s", err.msg);
-    printf("\nWrote %s (point data rowsRank, slabsRank, rcbRank): open it in ParaView\n", path);
+    printf("\nWrote %s (point data domainRank, rowsRank, slabsRank, rcbRank): open it in "
+           "ParaView\n",
+           path);
 }
 
 int main(int argc, char **argv)
@@ -254,6 +262,10 @@ int main(int argc, char **argv)
     int *r_rows = sl_malloc((n + 1) * sizeof(int), "ranks");
     int *r_slabs = sl_malloc((n + 1) * sizeof(int), "ranks");
     int *r_rcb = sl_malloc((n + 1) * sizeof(int), "ranks");
+    int *r_dom = sl_malloc((n + 1) * sizeof(int), "ranks");
+    size_t *stored = sl_malloc(((size_t)p + 1) * sizeof *stored, "ranks");
+    size_t *hstored = sl_malloc(((size_t)p + 1) * sizeof *hstored, "ranks");
+    pcd_partition(&s, p, r_dom, stored, hstored);
     uint32_t *idx = sl_malloc((n + 1) * sizeof *idx, "particles");
     rows(n, p, r_rows);
     for (size_t i = 0; i < n; i++) idx[i] = (uint32_t)i;
@@ -267,14 +279,31 @@ int main(int argc, char **argv)
            "        %9s %9s %6s  %9s %9s %10s %7s  %9s  %4s %6s  %10s %10s\n",
            "min", "max", "max/av", "min", "max", "mean", "/owned", "max", "max", "mean", "halo",
            "replicated");
+    report("domain", (part_stats[]){measure(&s, r_dom, p)}, n, p);
     report("rows", (part_stats[]){measure(&s, r_rows, p)}, n, p);
     report("slabs", (part_stats[]){measure(&s, r_slabs, p)}, n, p);
     report("rcb", (part_stats[]){measure(&s, r_rcb, p)}, n, p);
-    printf("\nrows: what pcisph -parallel computes per rank now (every rank holds every particle "
-           "and\nreceives the rows of the others each iteration: 'replicated'); slabs and rcb: "
-           "a domain\ndecomposition would exchange only the halo (x* and p/rho^2 of the fluid "
-           "within h: 'halo').\n");
-    write_vtu(&c, &s, r_rows, r_slabs, r_rcb);
+    printf("\nrows: what the halo and gather modes compute per rank (every rank holds every "
+           "particle;\nthe gather mode receives the rows of the others each iteration: "
+           "'replicated'); domain,\nslabs and rcb: a domain decomposition exchanges only the halo "
+           "(x* and p/rho^2 of the\nfluid within h: 'halo').\n");
+    size_t smin = (size_t)-1, smax = 0, hmin = (size_t)-1, hmax = 0;
+    double hsum = 0.0;
+    for (int r = 0; r < p; r++) {
+        smin = stored[r] < smin ? stored[r] : smin;
+        smax = stored[r] > smax ? stored[r] : smax;
+        hmin = hstored[r] < hmin ? hstored[r] : hmin;
+        hmax = hstored[r] > hmax ? hstored[r] : hmax;
+        hsum += (double)hstored[r];
+    }
+    printf("\ndomain: pcisph -parallel's domain mode; each rank stores its own particles and the "
+           "halo\nrows two cells deep: stored per rank min %zu, max %zu of %zu; stored halo per "
+           "rank\nmin %zu, max %zu, mean %.0f (%.0f %% of the mean own count)\n",
+           smin, smax, n, hmin, hmax, hsum / p, n ? 100.0 * hsum / (double)n : 0.0);
+    write_vtu(&c, &s, r_dom, r_rows, r_slabs, r_rcb);
+    free(r_dom);
+    free(stored);
+    free(hstored);
     free(r_rows);
     free(r_slabs);
     free(r_rcb);

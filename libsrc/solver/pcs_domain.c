@@ -1,0 +1,939 @@
+/* pcs_domain: -parallel's domain mode (see pcs_domain.h). */
+#include "solver/pcs_domain.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "core/sl_log.h"
+#include "core/sl_mem.h"
+#include "core/sl_reduce.h"
+#include "parallel/par.h"
+
+/* What travels with a particle that migrates or joins a halo: x, v, rho,
+ * p (the state a step carries, particles.h) and the id. */
+#define REC 9
+/* ... and to rank 0 for output: the same and the cell of the last sort. */
+#define REC_OUT 10
+
+struct pcs_domain {
+    size_t nrows, nx; /* rows of cells along x, in Morton order of (y, z); cells per row */
+    int ny, nz, depth;
+    int *ry, *rz;                    /* (cy, cz) of row k */
+    uint32_t *kof;                   /* row of (cy, cz): kof[cy + ny cz] */
+    size_t *cut;                     /* rank r owns rows [cut[r], cut[r+1]) */
+    int *owner;                      /* of each row */
+    uint32_t *nstart, *nrank, *mark; /* ranks whose halo holds row k: nrank[nstart[k]..) */
+    size_t nrank_cap;
+    long *rowcount, *cnt_p, *all_n, *all_s;
+    double threshold, imb_after;
+    int *dest;
+    size_t dest_cap;
+    int *scnt, *sdis, *rcnt, *rdis;     /* migration, particles per rank */
+    int *hscnt, *hsdis, *hrcnt, *hrdis; /* halo, particles per rank */
+    int *ws, *wsd, *wr, *wrd;           /* either, in doubles */
+    double *sbuf, *rbuf;
+    size_t sbuf_cap, rbuf_cap;
+    uint32_t *send_idx, *recv_idx; /* own rows sent (by rank), halo rows received (by owner) */
+    size_t send_cap, recv_cap, nsend, nrecv;
+    uint32_t *inv;
+    size_t inv_cap;
+    size_t nown, nsorted, lo, hi;
+    size_t *goff; /* rank r's own rows are rows [goff[r], goff[r+1]) of the serial order */
+    size_t *boff; /* the blocks whose last row rank r holds: [boff[r], boff[r+1]) */
+    /* boundary particles: the search at which this rank last computed
+     * them (output takes the latest), marks of the boundary set */
+    long *bstamp, *bkey;
+    uint32_t *bmark, bst;
+    double *bval;
+    /* rank 0: the gathered state */
+    sl_fluid mirror;
+    nbr_grid mgrid;
+    nbr_list mbf;
+    uint32_t *mfstart;
+    int have_mirror, fresh;
+    double *gbuf;
+    size_t gbuf_cap;
+    uint64_t *tail;
+    size_t tail_cap;
+    pcs_snapshot full;
+    double *vol_all;
+    size_t vol_cap;
+    int vol_valid;
+    int *pcnt, *pdis;
+    pcd_counts c;
+    double stored_sum, halo_sum;
+};
+
+/* ---- small helpers ---- */
+
+static void *grow(void *p, size_t *cap, size_t need, size_t elem, const char *what)
+{
+    if (need <= *cap && p) return p;
+    size_t c = *cap ? *cap : 1024;
+    while (c < need) c *= 2;
+    sl_free_aligned(p);
+    *cap = c;
+    return sl_alloc_aligned(c * elem, what);
+}
+
+static int as_int(size_t v)
+{
+    if (v > 2147483647u) sl_fatal("-parallel: %zu values exceed MPI's int counts", v);
+    return (int)v;
+}
+
+static size_t row_of(const pcs_solver *s, const struct pcs_domain *d, double x, double y, double z)
+{
+    return nbr_cell_rank(&s->grid, x, y, z) / d->nx;
+}
+
+static void pack(const sl_fluid *f, size_t i, double *o)
+{
+    o[0] = f->x[i], o[1] = f->y[i], o[2] = f->z[i];
+    o[3] = f->vx[i], o[4] = f->vy[i], o[5] = f->vz[i];
+    o[6] = f->rho[i], o[7] = f->p[i];
+    o[8] = (double)f->id[i];
+}
+
+static void unpack(sl_fluid *f, size_t i, const double *o)
+{
+    f->x[i] = o[0], f->y[i] = o[1], f->z[i] = o[2];
+    f->vx[i] = o[3], f->vy[i] = o[4], f->vz[i] = o[5];
+    f->rho[i] = o[6], f->p[i] = o[7];
+    f->id[i] = (uint32_t)o[8];
+}
+
+/* Particle `from` to slot `to` (to <= from), with its cell. */
+static void move_to(sl_fluid *f, size_t to, size_t from)
+{
+    if (to == from) return;
+    f->x[to] = f->x[from], f->y[to] = f->y[from], f->z[to] = f->z[from];
+    f->vx[to] = f->vx[from], f->vy[to] = f->vy[from], f->vz[to] = f->vz[from];
+    f->rho[to] = f->rho[from], f->p[to] = f->p[from];
+    f->id[to] = f->id[from];
+    f->cell[to] = f->cell[from];
+}
+
+/* Room for n particles (the arrays keep their first f->n entries). */
+static void reserve(sl_fluid *f, size_t n)
+{
+    if (n > f->cap) prt_fluid_reserve(f, n + n / 4 + 64);
+}
+
+/* Counts in doubles, and displacements, of per-particle counts. */
+static size_t scale(const int *cnt, int w, int *wc, int *wd, int p)
+{
+    size_t tot = 0;
+    for (int q = 0; q < p; q++) {
+        wc[q] = as_int((size_t)w * (size_t)cnt[q]);
+        wd[q] = as_int(tot);
+        tot += (size_t)wc[q];
+    }
+    return tot;
+}
+
+static int *ints(int n) { return sl_calloc((size_t)n, sizeof(int), "rank counts"); }
+
+/* ---- cuts ---- */
+
+/* The ranks whose halo holds each row: the rows within `depth` cells in
+ * y and z of one of their own rows (not their own). */
+static void build_need(struct pcs_domain *d, int p)
+{
+    const int D = d->depth;
+    memset(d->nstart, 0, (d->nrows + 1) * sizeof *d->nstart);
+    memset(d->mark, 0, d->nrows * sizeof *d->mark);
+    for (int pass = 0; pass < 2; pass++) {
+        for (int q = 0; q < p; q++) {
+            const uint32_t st = (uint32_t)(pass * p + q + 1);
+            for (size_t k = d->cut[q]; k < d->cut[q + 1]; k++)
+                for (int dz = -D; dz <= D; dz++)
+                    for (int dy = -D; dy <= D; dy++) {
+                        const int cy = d->ry[k] + dy, cz = d->rz[k] + dz;
+                        if (cy < 0 || cz < 0 || cy >= d->ny || cz >= d->nz) continue;
+                        const uint32_t k2 = d->kof[(size_t)cy + (size_t)d->ny * (size_t)cz];
+                        if (d->owner[k2] == q || d->mark[k2] == st) continue;
+                        d->mark[k2] = st;
+                        if (pass == 0) d->nstart[k2 + 1]++;
+                        else d->nrank[d->nstart[k2]++] = (uint32_t)q;
+                    }
+        }
+        if (pass == 0) {
+            for (size_t k = 0; k < d->nrows; k++) d->nstart[k + 1] += d->nstart[k];
+            d->nrank = grow(d->nrank, &d->nrank_cap, d->nstart[d->nrows] + 1, sizeof *d->nrank,
+                            "halo rows");
+        }
+    }
+    /* the fill advanced each start to the next row's: shift back */
+    for (size_t k = d->nrows; k > 0; k--) d->nstart[k] = d->nstart[k - 1];
+    d->nstart[0] = 0;
+}
+
+/* Cuts from the fluid count of each row: rank r's first row is where the
+ * running count comes nearest r N / P. */
+static double set_cuts(struct pcs_domain *d, const long *cnt, int p)
+{
+    long total = 0;
+    for (size_t k = 0; k < d->nrows; k++) total += cnt[k];
+    size_t k = 0;
+    long acc = 0;
+    d->cut[0] = 0;
+    for (int r = 1; r < p; r++) {
+        const long target = (long)((long long)total * r / p);
+        while (k < d->nrows && acc + cnt[k] <= target) acc += cnt[k++];
+        if (k < d->nrows && acc < target && acc + cnt[k] - target < target - acc) acc += cnt[k++];
+        d->cut[r] = k;
+    }
+    d->cut[p] = d->nrows;
+    long big = 0;
+    for (int r = 0; r < p; r++) {
+        long sum = 0;
+        for (size_t q = d->cut[r]; q < d->cut[r + 1]; q++) {
+            sum += cnt[q];
+            d->owner[q] = r;
+        }
+        big = sum > big ? sum : big;
+    }
+    build_need(d, p);
+    return total > 0 ? (double)big * p / (double)total : 1.0;
+}
+
+int pcd_usable(const pcs_solver *s)
+{
+    const char *e = getenv("SLUICE_PARALLEL_EXCHANGE");
+    if (e && (!strcmp(e, "gather") || !strcmp(e, "halo"))) return 0;
+    return s->split.size > 1 && !s->prm.periodic.axes;
+}
+
+/* The fluid's arrays cut down to room for `want` particles (they were
+ * sized for the whole case when it was read): the state fields move over,
+ * the others are recomputed by every step before they are read. */
+static void shrink(sl_fluid *f, size_t want)
+{
+    if (want >= f->cap) return;
+    sl_fluid g;
+    prt_fluid_init(&g);
+    prt_fluid_reserve(&g, want);
+    const size_t n = f->n;
+    double *from[8] = {f->x, f->y, f->z, f->vx, f->vy, f->vz, f->rho, f->p};
+    double *to[8] = {g.x, g.y, g.z, g.vx, g.vy, g.vz, g.rho, g.p};
+    for (int k = 0; k < 8; k++) memcpy(to[k], from[k], n * sizeof *to[k]);
+    memcpy(g.id, f->id, n * sizeof *g.id);
+    memcpy(g.cell, f->cell, n * sizeof *g.cell);
+    g.n = n;
+    prt_fluid_free(f);
+    *f = g;
+}
+
+/* The row tables of grid g and room for p ranks' cuts. */
+static struct pcs_domain *domain_new(const nbr_grid *g, int p)
+{
+    struct pcs_domain *d = sl_calloc(1, sizeof *d, "domain decomposition");
+    d->nx = (size_t)g->nc[0];
+    d->ny = g->nc[1];
+    d->nz = g->nc[2];
+    d->nrows = (size_t)d->ny * (size_t)d->nz;
+    d->depth = 2 * g->reach;
+    d->ry = sl_malloc(d->nrows * sizeof *d->ry, "grid rows");
+    d->rz = sl_malloc(d->nrows * sizeof *d->rz, "grid rows");
+    d->kof = sl_malloc(d->nrows * sizeof *d->kof, "grid rows");
+    for (int cz = 0; cz < d->nz; cz++)
+        for (int cy = 0; cy < d->ny; cy++) {
+            const size_t lin = (size_t)cy + (size_t)d->ny * (size_t)cz;
+            const uint32_t k = (uint32_t)(g->rank[d->nx * lin] / d->nx);
+            d->kof[lin] = k;
+            d->ry[k] = cy;
+            d->rz[k] = cz;
+        }
+    d->cut = sl_malloc(((size_t)p + 1) * sizeof *d->cut, "rank cuts");
+    d->goff = sl_calloc((size_t)p + 1, sizeof *d->goff, "rank rows");
+    d->boff = sl_calloc((size_t)p + 1, sizeof *d->boff, "rank rows");
+    d->owner = sl_malloc(d->nrows * sizeof *d->owner, "row owners");
+    d->nstart = sl_malloc((d->nrows + 1) * sizeof *d->nstart, "halo rows");
+    d->mark = sl_malloc(d->nrows * sizeof *d->mark, "halo rows");
+    d->rowcount = sl_calloc(d->nrows, sizeof *d->rowcount, "row counts");
+    d->cnt_p = sl_calloc((size_t)p, sizeof *d->cnt_p, "rank counts");
+    d->all_n = sl_calloc((size_t)p, sizeof *d->all_n, "rank counts");
+    d->all_s = sl_calloc((size_t)p, sizeof *d->all_s, "rank counts");
+    d->scnt = ints(p), d->sdis = ints(p), d->rcnt = ints(p), d->rdis = ints(p);
+    d->hscnt = ints(p), d->hsdis = ints(p), d->hrcnt = ints(p), d->hrdis = ints(p);
+    d->ws = ints(p), d->wsd = ints(p), d->wr = ints(p), d->wrd = ints(p);
+    d->pcnt = ints(p), d->pdis = ints(p);
+    prt_fluid_init(&d->mirror);
+    nbr_list_init(&d->mbf);
+    snap_init(&d->full);
+    return d;
+}
+
+static void domain_free(struct pcs_domain *d);
+
+void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t *halo)
+{
+    struct pcs_domain *d = domain_new(&s->grid, p);
+    const sl_fluid *f = s->f;
+    for (size_t i = 0; i < f->n; i++) d->rowcount[row_of(s, d, f->x[i], f->y[i], f->z[i])]++;
+    set_cuts(d, d->rowcount, p);
+    for (int r = 0; r < p; r++) stored[r] = halo[r] = 0;
+    for (size_t i = 0; i < f->n; i++) {
+        const size_t k = row_of(s, d, f->x[i], f->y[i], f->z[i]);
+        rank[i] = d->owner[k];
+        stored[rank[i]]++;
+        for (uint32_t q = d->nstart[k]; q < d->nstart[k + 1]; q++) halo[d->nrank[q]]++;
+    }
+    for (int r = 0; r < p; r++) stored[r] += halo[r];
+    domain_free(d);
+}
+
+void pcd_init(pcs_solver *s)
+{
+    const int p = s->split.size, me = s->split.rank;
+    struct pcs_domain *d = domain_new(&s->grid, p);
+    s->split.dd = d;
+    const char *th = getenv("SLUICE_PARALLEL_REBALANCE");
+    d->threshold = th && *th ? atof(th) : 0.05;
+    if (!(d->threshold >= 0.0))
+        sl_fatal("SLUICE_PARALLEL_REBALANCE=%s: a fraction >= 0 is needed (0.05: rebalance when "
+                 "the largest rank holds 5 %% more fluid than the mean)",
+                 th);
+    /* every rank holds every particle: the same cuts everywhere */
+    sl_fluid *f = s->f;
+    for (size_t i = 0; i < f->n; i++) d->rowcount[row_of(s, d, f->x[i], f->y[i], f->z[i])]++;
+    d->imb_after = set_cuts(d, d->rowcount, p);
+    size_t j = 0;
+    for (size_t i = 0; i < f->n; i++)
+        if (d->owner[row_of(s, d, f->x[i], f->y[i], f->z[i])] == me) move_to(f, j++, i);
+    s->split.nglobal = f->n;
+    f->n = j;
+    d->nown = j;
+    shrink(f, 2 * j + 1024); /* own and halo; grows when it must */
+    d->nsorted = 0;
+}
+
+void pcd_free(pcs_solver *s)
+{
+    if (s->split.dd) domain_free(s->split.dd);
+    s->split.dd = NULL;
+}
+
+static void domain_free(struct pcs_domain *d)
+{
+    free(d->ry), free(d->rz), free(d->kof), free(d->cut), free(d->goff), free(d->boff),
+        free(d->owner);
+    free(d->nstart), free(d->mark), free(d->rowcount), free(d->cnt_p), free(d->all_n);
+    free(d->all_s);
+    sl_free_aligned(d->nrank);
+    free(d->scnt), free(d->sdis), free(d->rcnt), free(d->rdis);
+    free(d->hscnt), free(d->hsdis), free(d->hrcnt), free(d->hrdis);
+    free(d->ws), free(d->wsd), free(d->wr), free(d->wrd), free(d->pcnt), free(d->pdis);
+    sl_free_aligned(d->dest);
+    sl_free_aligned(d->sbuf), sl_free_aligned(d->rbuf);
+    sl_free_aligned(d->send_idx), sl_free_aligned(d->recv_idx), sl_free_aligned(d->inv);
+    free(d->bstamp), free(d->bkey), free(d->bmark), free(d->bval);
+    prt_fluid_free(&d->mirror);
+    sl_free_aligned(d->mfstart);
+    nbr_list_free(&d->mbf);
+    sl_free_aligned(d->gbuf);
+    free(d->tail);
+    snap_free(&d->full);
+    sl_free_aligned(d->vol_all);
+    free(d);
+}
+
+/* ---- the start of a step: migration, rebalancing, halo ---- */
+
+/* Destinations of the n particles (rows in f->cell); per-rank counts. */
+static void destinations(const struct pcs_domain *d, const sl_fluid *f, int *dest, long *cnt, int p)
+{
+    memset(cnt, 0, (size_t)p * sizeof *cnt);
+    for (size_t i = 0; i < f->n; i++) {
+        dest[i] = d->owner[f->cell[i]];
+        cnt[dest[i]]++;
+    }
+}
+
+/* The particles whose row another rank owns go there; the kept ones stay
+ * in order, the arrivals after them. */
+static void migrate(pcs_solver *s, struct pcs_domain *d)
+{
+    sl_fluid *f = s->f;
+    const int p = s->split.size, me = s->split.rank;
+    const size_t n = f->n;
+    memset(d->scnt, 0, (size_t)p * sizeof *d->scnt);
+    for (size_t i = 0; i < n; i++)
+        if (d->dest[i] != me) d->scnt[d->dest[i]]++;
+    par_alltoall_int(d->scnt, d->rcnt);
+    size_t ns = 0, nr = 0;
+    for (int q = 0; q < p; q++) {
+        d->sdis[q] = as_int(ns);
+        ns += (size_t)d->scnt[q];
+        d->rdis[q] = as_int(nr);
+        nr += (size_t)d->rcnt[q];
+        if (q > me) d->c.migrated_up += d->scnt[q];
+        if (q < me) d->c.migrated_down += d->scnt[q];
+    }
+    d->sbuf = grow(d->sbuf, &d->sbuf_cap, REC * ns + 1, sizeof *d->sbuf, "migration buffer");
+    d->rbuf = grow(d->rbuf, &d->rbuf_cap, REC * nr + 1, sizeof *d->rbuf, "migration buffer");
+    int *pos = d->hscnt; /* scratch */
+    memcpy(pos, d->sdis, (size_t)p * sizeof *pos);
+    size_t j = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (d->dest[i] == me) move_to(f, j++, i);
+        else pack(f, i, d->sbuf + REC * (size_t)pos[d->dest[i]]++);
+    }
+    scale(d->scnt, REC, d->ws, d->wsd, p);
+    scale(d->rcnt, REC, d->wr, d->wrd, p);
+    par_exchange_double(d->sbuf, d->ws, d->wsd, d->rbuf, d->wr, d->wrd);
+    f->n = j;
+    reserve(f, j + nr);
+    for (size_t k = 0; k < nr; k++) {
+        unpack(f, j + k, d->rbuf + REC * k);
+        f->cell[j + k] = (uint32_t)row_of(s, d, f->x[j + k], f->y[j + k], f->z[j + k]);
+    }
+    f->n = j + nr;
+}
+
+/* Every rank's own particles in the rows of the other ranks' halo go
+ * there; they arrive after the own ones (recv_idx: where, before the
+ * sort), send_idx the own rows sent, by rank. */
+static void fill_halo(pcs_solver *s, struct pcs_domain *d)
+{
+    sl_fluid *f = s->f;
+    const int p = s->split.size;
+    const size_t n = f->n;
+    memset(d->hscnt, 0, (size_t)p * sizeof *d->hscnt);
+    for (size_t i = 0; i < n; i++) {
+        const uint32_t k = f->cell[i];
+        for (uint32_t q = d->nstart[k]; q < d->nstart[k + 1]; q++) d->hscnt[d->nrank[q]]++;
+    }
+    par_alltoall_int(d->hscnt, d->hrcnt);
+    size_t ns = 0, nr = 0;
+    for (int q = 0; q < p; q++) {
+        d->hsdis[q] = as_int(ns);
+        ns += (size_t)d->hscnt[q];
+        d->hrdis[q] = as_int(nr);
+        nr += (size_t)d->hrcnt[q];
+    }
+    d->nsend = ns;
+    d->nrecv = nr;
+    d->send_idx = grow(d->send_idx, &d->send_cap, ns + 1, sizeof *d->send_idx, "halo rows");
+    d->recv_idx = grow(d->recv_idx, &d->recv_cap, nr + 1, sizeof *d->recv_idx, "halo rows");
+    d->sbuf = grow(d->sbuf, &d->sbuf_cap, REC * ns + 1, sizeof *d->sbuf, "halo buffer");
+    d->rbuf = grow(d->rbuf, &d->rbuf_cap, REC * nr + 1, sizeof *d->rbuf, "halo buffer");
+    int *pos = d->scnt; /* scratch */
+    memcpy(pos, d->hsdis, (size_t)p * sizeof *pos);
+    for (size_t i = 0; i < n; i++) {
+        const uint32_t k = f->cell[i];
+        for (uint32_t q = d->nstart[k]; q < d->nstart[k + 1]; q++) {
+            const size_t at = (size_t)pos[d->nrank[q]]++;
+            d->send_idx[at] = (uint32_t)i;
+            pack(f, i, d->sbuf + REC * at);
+        }
+    }
+    scale(d->hscnt, REC, d->ws, d->wsd, p);
+    scale(d->hrcnt, REC, d->wr, d->wrd, p);
+    par_exchange_double(d->sbuf, d->ws, d->wsd, d->rbuf, d->wr, d->wrd);
+    reserve(f, n + nr);
+    for (size_t k = 0; k < nr; k++) {
+        unpack(f, n + k, d->rbuf + REC * k);
+        d->recv_idx[k] = (uint32_t)(n + k);
+    }
+    f->n = n + nr;
+}
+
+void pcd_distribute(pcs_solver *s)
+{
+    struct pcs_domain *d = s->split.dd;
+    sl_fluid *f = s->f;
+    const int p = s->split.size;
+    const double t0 = omp_get_wtime();
+    const double c0 = par_counters().seconds;
+    d->dest = grow(d->dest, &d->dest_cap, f->n + 1, sizeof *d->dest, "particle ranks");
+    for (size_t i = 0; i < f->n; i++)
+        f->cell[i] = (uint32_t)row_of(s, d, f->x[i], f->y[i], f->z[i]);
+    destinations(d, f, d->dest, d->cnt_p, p);
+    par_sum_longs(d->cnt_p, (size_t)p); /* what each rank would own */
+    long total = 0, big = 0;
+    for (int q = 0; q < p; q++) {
+        total += d->cnt_p[q];
+        big = d->cnt_p[q] > big ? d->cnt_p[q] : big;
+    }
+    const double imb = total > 0 ? (double)big * p / (double)total : 1.0;
+    if (imb > 1.0 + d->threshold && imb > d->imb_after + 0.5 * d->threshold) {
+        /* rebalance: the cuts again from the global counts per row */
+        memset(d->rowcount, 0, d->nrows * sizeof *d->rowcount);
+        for (size_t i = 0; i < f->n; i++) d->rowcount[f->cell[i]]++;
+        par_sum_longs(d->rowcount, d->nrows);
+        d->imb_after = set_cuts(d, d->rowcount, p);
+        destinations(d, f, d->dest, d->cnt_p, p);
+        d->c.rebalances++;
+    }
+    if (imb > d->c.imbalance_max) d->c.imbalance_max = imb;
+    s->split.nglobal = (size_t)total;
+    migrate(s, d);
+    d->nown = f->n;
+    fill_halo(s, d);
+    s->time.comm += par_counters().seconds - c0;
+    s->time.halo += omp_get_wtime() - t0;
+}
+
+/* ---- after the search ---- */
+
+void pcd_after_search(pcs_solver *s)
+{
+    struct pcs_domain *d = s->split.dd;
+    pcs_split *sp = &s->split;
+    const nbr_grid *g = &s->grid;
+    const sl_fluid *f = s->f;
+    const int p = sp->size, me = sp->rank;
+    const double c0 = par_counters().seconds;
+    const size_t n = f->n, nb = s->b->n;
+    /* the exchange lists in the sorted order (perm: new -> old) */
+    d->inv = grow(d->inv, &d->inv_cap, n + 1, sizeof *d->inv, "halo rows");
+    for (size_t i = 0; i < n; i++) d->inv[g->perm[i]] = (uint32_t)i;
+    for (size_t k = 0; k < d->nsend; k++) d->send_idx[k] = d->inv[d->send_idx[k]];
+    for (size_t k = 0; k < d->nrecv; k++) d->recv_idx[k] = d->inv[d->recv_idx[k]];
+    const size_t c0cell = d->cut[me] * d->nx, c1cell = d->cut[me + 1] * d->nx;
+    d->lo = g->fstart[c0cell];
+    d->hi = g->fstart[c1cell];
+    if (d->hi - d->lo != d->nown)
+        sl_fatal("pcs_domain: %zu own rows after the sort, %zu before (internal error)",
+                 d->hi - d->lo, d->nown);
+    for (int r = 0; r <= p; r++) sp->row[r] = r <= me ? d->lo : d->hi;
+    par_allgather_long((long)d->nown, d->all_n);
+    d->goff[0] = 0;
+    size_t mn = (size_t)-1, mx = 0;
+    for (int r = 0; r < p; r++) {
+        const size_t k = (size_t)d->all_n[r];
+        d->goff[r + 1] = d->goff[r] + k;
+        mn = k < mn ? k : mn;
+        mx = k > mx ? k : mx;
+    }
+    sp->nglobal = d->goff[p];
+    sp->gshift = (ptrdiff_t)d->goff[me] - (ptrdiff_t)d->lo;
+    sp->rows_min = mn;
+    sp->rows_max = mx;
+    sp->steps++;
+    sp->empty += mn == 0;
+    sp->rows_min_sum += (double)mn;
+    sp->rows_max_sum += (double)mx;
+    /* the boundary particles the own rows see: this rank computes them */
+    sp->bset = grow(sp->bset, &sp->bset_cap, nb + 1, sizeof *sp->bset, "boundary set");
+    if (!d->bmark) {
+        d->bmark = sl_calloc(nb + 1, sizeof *d->bmark, "boundary marks");
+        d->bstamp = sl_calloc(nb + 1, sizeof *d->bstamp, "boundary stamps");
+        d->bkey = sl_calloc(2 * nb + 1, sizeof *d->bkey, "boundary stamps");
+        d->bval = sl_calloc(3 * nb + 1, sizeof *d->bval, "boundary values");
+    }
+    if (++d->bst == 0) {
+        memset(d->bmark, 0, (nb + 1) * sizeof *d->bmark);
+        d->bst = 1;
+    }
+    size_t nbs = 0;
+    const uint32_t *fbs = s->fb.start, *fbi = s->fb.idx;
+    for (size_t i = d->lo; i < d->hi; i++)
+        for (uint32_t q = fbs[i]; q < fbs[i + 1]; q++) {
+            const uint32_t j = fbi[q];
+            if (d->bmark[j] == d->bst) continue;
+            d->bmark[j] = d->bst;
+            sp->bset[nbs++] = j;
+        }
+    sp->nbset = nbs;
+    /* the active boundary particles in the own cells: counted once */
+    const size_t j0 = g->bstart[c0cell], j1 = g->bstart[c1cell];
+    long act = 0;
+    for (size_t q = 0; q < s->nactive; q++) act += s->active[q] >= j0 && s->active[q] < j1;
+    sp->nactive_all = (size_t)par_sum_long(act);
+    d->c.searches++;
+    d->stored_sum += (double)n;
+    d->halo_sum += (double)d->nrecv;
+    sp->halo_rows = d->nrecv;
+    sp->halo_sum += (double)d->nrecv;
+    sp->halo_max = d->nrecv > sp->halo_max ? d->nrecv : sp->halo_max;
+    d->vol_valid = 0;
+    s->time.comm += par_counters().seconds - c0;
+}
+
+/* ---- per PCISPH iteration ---- */
+
+/* The halo's w values per particle from their owners: pack from send_idx,
+ * unpack to recv_idx. */
+static void exchange(pcs_solver *s, double *const *a, int w)
+{
+    struct pcs_domain *d = s->split.dd;
+    const int p = s->split.size;
+    const double t0 = omp_get_wtime();
+    for (size_t k = 0; k < d->nsend; k++)
+        for (int c = 0; c < w; c++) d->sbuf[(size_t)w * k + (size_t)c] = a[c][d->send_idx[k]];
+    scale(d->hscnt, w, d->ws, d->wsd, p);
+    scale(d->hrcnt, w, d->wr, d->wrd, p);
+    par_exchange_double(d->sbuf, d->ws, d->wsd, d->rbuf, d->wr, d->wrd);
+    for (size_t k = 0; k < d->nrecv; k++)
+        for (int c = 0; c < w; c++) a[c][d->recv_idx[k]] = d->rbuf[(size_t)w * k + (size_t)c];
+    s->time.comm += omp_get_wtime() - t0;
+}
+
+void pcd_exchange_predicted(pcs_solver *s)
+{
+    double *a[3] = {s->f->xs, s->f->ys, s->f->zs};
+    exchange(s, a, 3);
+}
+
+/* The rank whose own rows hold row g of the serial order. */
+static int owner_of_row(const struct pcs_domain *d, int p, size_t g)
+{
+    int lo = 0, hi = p - 1;
+    while (lo < hi) { /* the last rank with goff[r] <= g */
+        const int mid = (lo + hi + 1) / 2;
+        if (d->goff[mid] <= g) lo = mid;
+        else hi = mid - 1;
+    }
+    while (d->goff[lo + 1] <= g) lo++; /* past empty ranks */
+    return lo;
+}
+
+/* The density error's block sums in the serial order (SL_REDUCE_BLOCK
+ * rows of the serial array each, summed one row at a time), on every
+ * rank.  The density pass summed this rank's whole blocks and the start
+ * of the block its rows end in; a block shared with lower ranks goes on
+ * from the running sum they pass up (one double, point-to-point), so it
+ * is summed in the serial order; then each block's sum is sent by the
+ * rank holding its last row to every rank (N / 4096 doubles). */
+static void chain_block_sums(pcs_solver *s, struct pcs_domain *d)
+{
+    const int p = s->split.size, me = s->split.rank;
+    const size_t n = s->split.nglobal, B = SL_REDUCE_BLOCK;
+    const size_t nb = (n + B - 1) / B;
+    const size_t G0 = d->goff[me], G1 = d->goff[me + 1];
+    double *part = s->err_block;
+    const double *err = s->err + d->lo; /* row G0 */
+    if (G1 > G0) {
+        const size_t bfirst = G0 / B, blast = (G1 - 1) / B;
+        int sent = 0;
+        if (G0 % B) { /* the block began on lower ranks */
+            double run = par_recv_double(owner_of_row(d, p, G0 - 1));
+            const size_t be = (bfirst + 1) * B < n ? (bfirst + 1) * B : n;
+            const size_t e = be < G1 ? be : G1;
+            for (size_t i = G0; i < e; i++) {
+                run += err[i - G0];
+                __asm__("" : "+m"(run)); /* one at a time, as the pass sums */
+            }
+            part[bfirst] = run;
+            if (e < be) { /* and goes on past this rank's rows */
+                par_send_double(run, owner_of_row(d, p, G1));
+                sent = 1;
+            }
+        }
+        if (!sent && G1 < n && G1 % B && !(G0 % B && blast == bfirst))
+            par_send_double(part[blast], owner_of_row(d, p, G1));
+    }
+    size_t *off = d->boff;
+    for (int r = 0; r <= p; r++) off[r] = d->goff[r] >= n ? nb : d->goff[r] / B;
+    par_gather_rows(part, off); /* each block from the rank holding its last row */
+}
+
+double pcd_after_density(pcs_solver *s, double emax)
+{
+    struct pcs_domain *d = s->split.dd;
+    const int p = s->split.size, me = s->split.rank;
+    const size_t n = s->split.nglobal;
+    const double t0 = omp_get_wtime();
+    chain_block_sums(s, d);
+    s->time.comm += omp_get_wtime() - t0;
+    /* the halo's p/rho^2 (the pressure force) and density (the next
+     * density pass's EFF_DENSITY effects) */
+    double *a[2] = {s->f->pt, s->f->rho};
+    exchange(s, a, 2);
+    const double t1 = omp_get_wtime();
+    if (!s->prm.method->wall_density) { /* measured compression of every row (sl_sum) */
+        d->vol_all = grow(d->vol_all, &d->vol_cap, n + 1, sizeof *d->vol_all, "density error");
+        for (int r = 0; r < p; r++) {
+            d->pcnt[r] = as_int(d->goff[r + 1] - d->goff[r]);
+            d->pdis[r] = as_int(d->goff[r]);
+        }
+        par_allgatherv(s->err_vol + d->lo, d->pcnt[me], d->vol_all, d->pcnt, d->pdis);
+        d->vol_valid = 1;
+    }
+    for (size_t q = 0; q < s->split.nbset; q++) d->bstamp[s->split.bset[q]] = d->c.searches;
+    emax = par_max_double(emax); /* a maximum: exact in any order */
+    s->time.comm += omp_get_wtime() - t1;
+    return emax;
+}
+
+const double *pcd_err_vol(const pcs_solver *s)
+{
+    const struct pcs_domain *d = s->split.dd;
+    return d && d->vol_valid ? d->vol_all : NULL;
+}
+
+/* ---- the end of a step ---- */
+
+void pcd_keep_own(pcs_solver *s)
+{
+    struct pcs_domain *d = s->split.dd;
+    sl_fluid *f = s->f;
+    const size_t lo = d->lo, m = d->nown;
+    if (lo) {
+        double *a[8] = {f->x, f->y, f->z, f->vx, f->vy, f->vz, f->rho, f->p};
+        for (int k = 0; k < 8; k++) memmove(a[k], a[k] + lo, m * sizeof *a[k]);
+        memmove(f->id, f->id + lo, m * sizeof *f->id);
+        memmove(f->cell, f->cell + lo, m * sizeof *f->cell);
+    }
+    f->n = m;
+    d->nsorted = m;
+    d->lo = 0;
+    d->hi = m;
+    d->fresh = 0;
+}
+
+void pcd_keep_emitted(pcs_solver *s, size_t n0)
+{
+    struct pcs_domain *d = s->split.dd;
+    sl_fluid *f = s->f;
+    const size_t n = f->n;
+    if (n == n0) return;
+    size_t j = n0;
+    for (size_t i = n0; i < n; i++)
+        if (d->owner[row_of(s, d, f->x[i], f->y[i], f->z[i])] == s->split.rank) move_to(f, j++, i);
+    f->n = j;
+    s->split.nglobal += n - n0; /* every rank emitted the same */
+    d->fresh = 0;
+}
+
+/* ---- rank 0's whole state, for output and function objects ---- */
+
+static int cmp_u64(const void *a, const void *b)
+{
+    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The boundary particles' density and pressure on rank 0: each from the
+ * rank that computed it at the latest search (all ranks that computed it
+ * then hold the same bits; rank 0's own when none did); and which were
+ * active at the last search (on any rank). */
+static void gather_boundary(pcs_solver *s, struct pcs_domain *d)
+{
+    sl_boundary *b = s->b;
+    const size_t nb = b->n;
+    const int p = s->split.size, me = s->split.rank;
+    if (!nb) return;
+    if (!d->bmark) {
+        d->bmark = sl_calloc(nb + 1, sizeof *d->bmark, "boundary marks");
+        d->bstamp = sl_calloc(nb + 1, sizeof *d->bstamp, "boundary stamps");
+        d->bkey = sl_calloc(2 * nb + 1, sizeof *d->bkey, "boundary stamps");
+        d->bval = sl_calloc(3 * nb + 1, sizeof *d->bval, "boundary values");
+    }
+    const uint32_t *st = s->bf.start;
+    const int lists = s->bf.n == nb;
+    for (size_t j = 0; j < nb; j++) {
+        d->bkey[j] = d->bstamp[j] * p + (p - 1 - me);
+        d->bkey[nb + j] = lists && st[j + 1] > st[j];
+    }
+    par_max_longs(d->bkey, 2 * nb);
+    for (size_t j = 0; j < nb; j++) {
+        const int mine = d->bkey[j] == d->bstamp[j] * p + (p - 1 - me);
+        d->bval[3 * j] = mine ? b->rho[j] : 0.0;
+        d->bval[3 * j + 1] = mine ? b->p[j] : 0.0;
+        d->bval[3 * j + 2] = mine ? b->pt[j] : 0.0;
+    }
+    par_sum_doubles_root(d->bval, 3 * nb);
+    if (me) return;
+    for (size_t j = 0; j < nb; j++) {
+        b->rho[j] = d->bval[3 * j];
+        b->p[j] = d->bval[3 * j + 1];
+        b->pt[j] = d->bval[3 * j + 2];
+    }
+    /* the active ones, as the boundary -> fluid lists' rows tell */
+    nbr_list *l = &d->mbf;
+    if (l->rows_cap < nb + 1) {
+        sl_free_aligned(l->start);
+        l->start = sl_alloc_aligned((nb + 1) * sizeof *l->start, "boundary rows");
+        l->rows_cap = nb + 1;
+    }
+    l->n = nb;
+    l->start[0] = 0;
+    for (size_t j = 0; j < nb; j++) l->start[j + 1] = l->start[j] + (d->bkey[nb + j] ? 1u : 0u);
+}
+
+void pcd_gather(pcs_solver *s)
+{
+    struct pcs_domain *d = s->split.dd;
+    if (d->fresh) return;
+    const double t0 = omp_get_wtime(), c0 = par_counters().seconds;
+    const int p = s->split.size, me = s->split.rank;
+    const sl_fluid *f = s->f;
+    const size_t n = f->n, ns = d->nsorted < n ? d->nsorted : n;
+    par_allgather_long((long)n, d->all_n);
+    par_allgather_long((long)ns, d->all_s);
+    size_t total = 0;
+    for (int r = 0; r < p; r++) {
+        d->pcnt[r] = as_int(REC_OUT * (size_t)d->all_n[r]);
+        d->pdis[r] = as_int(total);
+        total += (size_t)d->pcnt[r];
+    }
+    d->sbuf = grow(d->sbuf, &d->sbuf_cap, REC_OUT * n + 1, sizeof *d->sbuf, "output buffer");
+    for (size_t i = 0; i < n; i++) {
+        pack(f, i, d->sbuf + REC_OUT * i);
+        d->sbuf[REC_OUT * i + REC] = (double)f->cell[i];
+    }
+    if (!me) d->gbuf = grow(d->gbuf, &d->gbuf_cap, total + 1, sizeof *d->gbuf, "output buffer");
+    par_gatherv_root(d->sbuf, d->pcnt[me], d->gbuf, d->pcnt, d->pdis);
+    gather_boundary(s, d);
+    if (!me) {
+        /* the rows sorted at the last search in rank order (the serial
+         * order), then the particles appended since (emitted), by id */
+        const size_t N = total / REC_OUT;
+        sl_fluid *m = &d->mirror;
+        if (m->cap < N) prt_fluid_reserve(m, N + N / 4 + 64);
+        d->tail = d->tail_cap >= N + 1
+            ? d->tail
+            : sl_realloc(d->tail, (N + 1) * sizeof *d->tail, "output order");
+        d->tail_cap = d->tail_cap > N + 1 ? d->tail_cap : N + 1;
+        size_t j = 0, nt = 0;
+        for (int r = 0; r < p; r++) {
+            const double *src = d->gbuf + d->pdis[r];
+            for (size_t i = 0; i < (size_t)d->all_n[r]; i++) {
+                const double *o = src + REC_OUT * i;
+                if (i < (size_t)d->all_s[r]) {
+                    unpack(m, j, o);
+                    m->cell[j++] = (uint32_t)o[REC];
+                } else {
+                    const size_t at = (size_t)(o - d->gbuf) / REC_OUT;
+                    d->tail[nt++] = (uint64_t)(uint32_t)o[8] << 32 | (uint64_t)at;
+                }
+            }
+        }
+        const size_t nsort = j;
+        qsort(d->tail, nt, sizeof *d->tail, cmp_u64);
+        for (size_t q = 0; q < nt; q++) {
+            const double *o = d->gbuf + REC_OUT * (d->tail[q] & 0xffffffffu);
+            unpack(m, j, o);
+            m->cell[j++] = (uint32_t)o[REC];
+        }
+        m->n = N;
+        /* the grid of the last search over the sorted rows */
+        const nbr_grid *g = &s->grid;
+        if (!d->mfstart)
+            d->mfstart = sl_alloc_aligned((g->ncells + 1) * sizeof *d->mfstart, "grid cells");
+        memset(d->mfstart, 0, (g->ncells + 1) * sizeof *d->mfstart);
+        for (size_t i = 0; i < nsort; i++) d->mfstart[m->cell[i] + 1]++;
+        for (size_t c = 0; c < g->ncells; c++) d->mfstart[c + 1] += d->mfstart[c];
+        d->mgrid = *g;
+        d->mgrid.fstart = d->mfstart;
+        d->mgrid.hstart = NULL;
+        d->have_mirror = 1;
+    }
+    d->fresh = 1;
+    d->c.gathers++;
+    d->c.gather_seconds += omp_get_wtime() - t0;
+    s->time.comm += par_counters().seconds - c0;
+}
+
+const sl_fluid *pcd_mirror(const pcs_solver *s)
+{
+    const struct pcs_domain *d = s->split.dd;
+    return d && d->have_mirror ? &d->mirror : NULL;
+}
+
+const nbr_grid *pcd_mirror_grid(const pcs_solver *s)
+{
+    const struct pcs_domain *d = s->split.dd;
+    return d && d->have_mirror ? &d->mgrid : NULL;
+}
+
+const nbr_list *pcd_mirror_bf(const pcs_solver *s)
+{
+    const struct pcs_domain *d = s->split.dd;
+    return d && d->have_mirror && d->mbf.start ? &d->mbf : NULL;
+}
+
+const pcs_snapshot *pcd_full_snapshot(pcs_solver *s, const pcs_snapshot *mine)
+{
+    struct pcs_domain *d = s->split.dd;
+    if (!d) return mine;
+    const int p = s->split.size, me = s->split.rank;
+    const size_t n = mine->n;
+    enum { W = 7 };
+    par_allgather_long((long)n, d->all_n);
+    size_t total = 0;
+    for (int r = 0; r < p; r++) {
+        d->pcnt[r] = as_int(W * (size_t)d->all_n[r]);
+        d->pdis[r] = as_int(total);
+        total += (size_t)d->pcnt[r];
+    }
+    d->sbuf = grow(d->sbuf, &d->sbuf_cap, W * n + 1, sizeof *d->sbuf, "output buffer");
+    for (size_t i = 0; i < n; i++) {
+        double *o = d->sbuf + W * i;
+        o[0] = mine->x[i], o[1] = mine->y[i], o[2] = mine->z[i];
+        o[3] = mine->vx[i], o[4] = mine->vy[i], o[5] = mine->vz[i];
+        o[6] = (double)mine->id[i];
+    }
+    if (!me) d->gbuf = grow(d->gbuf, &d->gbuf_cap, total + 1, sizeof *d->gbuf, "output buffer");
+    par_gatherv_root(d->sbuf, d->pcnt[me], d->gbuf, d->pcnt, d->pdis);
+    if (me) return mine;
+    const size_t N = total / W;
+    pcs_snapshot *full = &d->full;
+    snap_resize(full, N);
+    for (size_t i = 0; i < N; i++) {
+        const double *o = d->gbuf + W * i;
+        full->x[i] = o[0], full->y[i] = o[1], full->z[i] = o[2];
+        full->vx[i] = o[3], full->vy[i] = o[4], full->vz[i] = o[5];
+        full->id[i] = (uint32_t)o[6];
+    }
+    full->time = mine->time;
+    full->dt = mine->dt;
+    full->step = mine->step;
+    return full;
+}
+
+void pcd_localize_snapshot(const pcs_solver *s, pcs_snapshot *snap)
+{
+    const struct pcs_domain *d = s->split.dd;
+    if (!d) return;
+    size_t j = 0;
+    for (size_t i = 0; i < snap->n; i++) {
+        if (d->owner[row_of(s, d, snap->x[i], snap->y[i], snap->z[i])] != s->split.rank) continue;
+        snap->x[j] = snap->x[i], snap->y[j] = snap->y[i], snap->z[j] = snap->z[i];
+        snap->vx[j] = snap->vx[i], snap->vy[j] = snap->vy[i], snap->vz[j] = snap->vz[i];
+        snap->id[j] = snap->id[i];
+        j++;
+    }
+    snap->n = j;
+}
+
+/* The resident memory of this process now (bytes; 0 where /proc is not). */
+static double rss_now(void)
+{
+    FILE *fp = fopen("/proc/self/statm", "r");
+    unsigned long size = 0, res = 0;
+    if (!fp) return 0.0;
+    const int ok = fscanf(fp, "%lu %lu", &size, &res) == 2;
+    fclose(fp);
+    return ok ? (double)res * (double)sysconf(_SC_PAGESIZE) : 0.0;
+}
+
+pcd_counts pcd_counters(const pcs_solver *s)
+{
+    const struct pcs_domain *d = s->split.dd;
+    pcd_counts c = d->c;
+    const double searches = c.searches > 0 ? (double)c.searches : 1.0;
+    const double stored = (double)(s->f->n > d->nown ? s->f->n : d->nown);
+    c.stored_max = (size_t)par_max_double((double)(d->nown + d->nrecv));
+    c.stored_min = (size_t)-par_max_double(-(double)(d->nown + d->nrecv));
+    c.halo_max = (size_t)par_max_double((double)d->nrecv);
+    c.halo_min = (size_t)-par_max_double(-(double)d->nrecv);
+    c.stored_mean = d->stored_sum / searches;
+    c.halo_mean = d->halo_sum / searches;
+    c.cap = s->f->cap;
+    const double mem = rss_now();
+    c.mem_max = par_max_double(mem);
+    c.mem_min = -par_max_double(-mem);
+    c.migrated_up = par_sum_long(c.migrated_up);
+    c.migrated_down = par_sum_long(c.migrated_down);
+    (void)stored;
+    return c;
+}

@@ -1,0 +1,100 @@
+/*
+ * pcs_domain: -parallel's domain mode (doc/parallel.md, "phase 2"), the
+ * default where it applies (no periodic axis).
+ *
+ * Ownership by position.  The grid's cells are numbered row by row along
+ * x, the rows in Morton order of (y, z) (neighbours.h); rank r owns the
+ * rows [cut[r], cut[r+1]) of that order (whole rows of cells, cut where
+ * the fluid counts balance), and so the fluid particles in them.  Because
+ * the fluid is sorted by the key (cell, id), a rank's own particles are a
+ * contiguous range of the serial run's sorted array, and its own plus
+ * halo particles a sub-sequence of it.
+ *
+ * Storage: between steps a rank holds its own particles only; at the start
+ * of a step (before the sort) particles whose cell left its rows migrate
+ * to their new owner, and the halo is received from its owners: the
+ * particles of the rows within two cells (in y and z) of the own rows.
+ * One cell would do for the fluid rows' own sums; the second makes the
+ * lists of the boundary particles the own rows see, and of the first halo
+ * layer (surface tension's normals), complete, so every rank computes the
+ * density and pressure of the boundary particles it sees with the serial
+ * bits.  The neighbour lists over that window hold each own particle's
+ * serial neighbours in the serial order, so every per-particle sum is the
+ * serial sum.  Boundary particles stay replicated (every rank holds all;
+ * each computes those its rows see).
+ *
+ * Per PCISPH iteration: x* of the halo after the prediction, p/rho^2 and
+ * rho after the density pass, point-to-point from the owners
+ * (par_exchange_double); the density error's block sums in the serial
+ * order (the blocks of SL_REDUCE_BLOCK rows of the serial array, made
+ * from every rank's whole blocks and the rows of the blocks it shares);
+ * the largest compression by a max-reduction.
+ *
+ * Rebalancing: when the largest rank's count passes the mean by more than
+ * SLUICE_PARALLEL_REBALANCE (a fraction, default 0.05), the cuts are
+ * computed again from the global counts per row (one reduction of a count
+ * per row) and the particles move by the migration of the next step.
+ *
+ * Output and function objects: rank 0 gathers the state (pcs_gather) in
+ * the serial order when something reads it (time directories, function
+ * objects); boundary values come from the rank that computed them last.
+ */
+#ifndef SL_PCS_DOMAIN_H
+#define SL_PCS_DOMAIN_H
+
+#include "solver/pcisph.h"
+#include "solver/pcs_snapshot.h"
+
+/* Whether s (ranks > 1) can run in domain mode. */
+int pcd_usable(const pcs_solver *s);
+/* At set-up (every rank holds every particle): the cuts, and the rank
+ * keeps its own particles. */
+void pcd_init(pcs_solver *s);
+void pcd_free(pcs_solver *s);
+/* decomposeCase: the cuts this mode makes of s's fluid (sorted, in one
+ * process) over p ranks: each particle's rank, and per rank the
+ * particles its halo holds and those it stores (own + halo). */
+void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t *halo);
+/* Before the sort: migration, rebalancing, halo received. */
+void pcd_distribute(pcs_solver *s);
+/* After the sort and the lists: own rows, exchange lists, the boundary
+ * particles this rank computes, counts. */
+void pcd_after_search(pcs_solver *s);
+void pcd_exchange_predicted(pcs_solver *s);
+double pcd_after_density(pcs_solver *s, double emax);
+/* After the integration (and after the density for output): the own
+ * rows to the front, the halo dropped. */
+void pcd_keep_own(pcs_solver *s);
+/* After the post-step effects appended particles from n0 on (emitters,
+ * on every rank alike): each rank keeps those in its rows. */
+void pcd_keep_emitted(pcs_solver *s, size_t n0);
+/* The state on rank 0 (see pcs_gather). */
+void pcd_gather(pcs_solver *s);
+/* What rank 0 shows (NULL elsewhere, and before a gather). */
+const sl_fluid *pcd_mirror(const pcs_solver *s);
+const nbr_grid *pcd_mirror_grid(const pcs_solver *s);
+const nbr_list *pcd_mirror_bf(const pcs_solver *s);
+/* The whole of a snapshot whose particles are spread over the ranks (the
+ * state at the start of a step), on rank 0: for restart files
+ * (collective; rank 0 gets the gathered copy, the others `mine`). */
+const pcs_snapshot *pcd_full_snapshot(pcs_solver *s, const pcs_snapshot *mine);
+/* A snapshot of the whole state (a restart file read by every rank) cut
+ * down to this rank's particles. */
+void pcd_localize_snapshot(const pcs_solver *s, pcs_snapshot *snap);
+/* The methods without wall density: the measured compression of every
+ * row of the last density pass (NULL when not gathered). */
+const double *pcd_err_vol(const pcs_solver *s);
+
+/* For the End summary. */
+typedef struct pcd_counts {
+    long searches, migrated_up, migrated_down, rebalances, gathers;
+    size_t stored_min, stored_max, halo_min, halo_max; /* last search, over the ranks */
+    double stored_mean, halo_mean;                     /* over searches, this rank */
+    size_t cap;                                        /* this rank's fluid capacity */
+    double imbalance_max;                              /* largest max/mean of a search */
+    double gather_seconds;
+    double mem_min, mem_max; /* resident bytes at the end, over the ranks */
+} pcd_counts;
+pcd_counts pcd_counters(const pcs_solver *s);
+
+#endif
