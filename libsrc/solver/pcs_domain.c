@@ -309,7 +309,7 @@ void pcd_init(pcs_solver *s)
     s->split.nglobal = f->n;
     f->n = j;
     d->nown = j;
-    shrink(f, 2 * j + 1024); /* own and halo; grows when it must */
+    shrink(f, j + j / 4 + 1024); /* own and some halo; grows when it must */
     d->nsorted = 0;
 }
 
