@@ -45,7 +45,8 @@ struct pcs_domain {
     size_t *goff; /* rank r's own rows are rows [goff[r], goff[r+1]) of the serial order */
     size_t *boff; /* the blocks whose last row rank r holds: [boff[r], boff[r+1]) */
     /* boundary particles: the search at which this rank last computed
-     * them (output takes the latest), marks of the boundary set */
+     * them, by creation index (output takes the latest), marks of the
+     * boundary set */
     long *bstamp, *bkey;
     uint32_t *bmark, bst;
     double *bval;
@@ -657,7 +658,9 @@ double pcd_after_density(pcs_solver *s, double emax)
         par_allgatherv(s->err_vol + d->lo, d->pcnt[me], d->vol_all, d->pcnt, d->pdis);
         d->vol_valid = 1;
     }
-    for (size_t q = 0; q < s->split.nbset; q++) d->bstamp[s->split.bset[q]] = d->c.searches;
+    /* by creation index: moving walls re-sort the boundary every step */
+    const uint32_t *bid = s->b->id;
+    for (size_t q = 0; q < s->split.nbset; q++) d->bstamp[bid[s->split.bset[q]]] = d->c.searches;
     emax = par_max_double(emax); /* a maximum: exact in any order */
     s->time.comm += omp_get_wtime() - t1;
     return emax;
@@ -730,12 +733,12 @@ static void gather_boundary(pcs_solver *s, struct pcs_domain *d)
     const uint32_t *st = s->bf.start;
     const int lists = s->bf.n == nb;
     for (size_t j = 0; j < nb; j++) {
-        d->bkey[j] = d->bstamp[j] * p + (p - 1 - me);
+        d->bkey[j] = d->bstamp[b->id[j]] * p + (p - 1 - me);
         d->bkey[nb + j] = lists && st[j + 1] > st[j];
     }
     par_max_longs(d->bkey, 2 * nb);
     for (size_t j = 0; j < nb; j++) {
-        const int mine = d->bkey[j] == d->bstamp[j] * p + (p - 1 - me);
+        const int mine = d->bkey[j] == d->bstamp[b->id[j]] * p + (p - 1 - me);
         d->bval[3 * j] = mine ? b->rho[j] : 0.0;
         d->bval[3 * j + 1] = mine ? b->p[j] : 0.0;
         d->bval[3 * j + 2] = mine ? b->pt[j] : 0.0;
