@@ -158,7 +158,8 @@ static void test_gather_mode_and_becker(void **state)
 
 /* Effects with a halo of their own: the surface density correction reads
  * the neighbours' density of the previous pass (EFF_DENSITY), surface
- * tension every particle's neighbours (EFF_FORCES, all rows). */
+ * tension every particle's neighbours (EFF_FORCES, all rows; the domain
+ * mode's halo is then two cells deep). */
 static void test_density_and_tension_effects(void **state)
 {
     (void)state;
@@ -170,6 +171,13 @@ static void test_density_and_tension_effects(void **state)
     assert_int_equal(run_np("tests/cases/damBreakShort", "parBK3", edit, 3), 0);
     same_output("parBKSerial", "parBK3");
     assert_int_equal(system("grep -q 'parallel: domain mode' tests/output/parBK3/log.pcisph"), 0);
+    /* the domain mode's two-cell halo (surface tension's, below), on walls:
+     * every rank computes the boundary particles its rows see */
+    setenv("SLUICE_PARALLEL_HALO_DEPTH", "2", 1);
+    int rc = run_np("tests/cases/damBreakShort", "parDepth2", edit, 2);
+    unsetenv("SLUICE_PARALLEL_HALO_DEPTH");
+    assert_int_equal(rc, 0);
+    same_output("parBKSerial", "parDepth2");
     const char *drop = "sed -i 's/^endTime .*/endTime 0.02;/; s/^writeInterval .*/writeInterval "
                        "0.01;/' system/controlDict && (grep -q '^numberOfThreads' "
                        "system/controlDict && sed -i 's/^numberOfThreads .*/numberOfThreads 1;/' "
