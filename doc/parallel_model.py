@@ -24,10 +24,10 @@ F_OWN = 0.90         # halo mode: share of a serial step in the own-row work (pr
 KAPPA_ROWS = 9.1     # halo of the rows partition: 1894 / 2995^(2/3) (decomposeCase, 8 ranks)
 STATE = 8            # halo mode: arrays gathered once per step (x, v, p, rho)
 # domain mode (phase 2 as built), measured by decomposeCase and the End summary:
-KAPPA_STORED = (26.0, 50.0)  # stored halo (rows two cells deep around columns of whole
+KAPPA_STORED = (12.0, 24.0)  # stored halo (rows one cell deep around columns of whole
                      # x-rows) = kappa (N/P)^(2/3): tutorials/damBreak at r0 0.009 m
-                     # (191,664 particles): 21,681 per rank on 8 ranks (26.1), 10,281 on 64
-                     # (49.4); at r0 0.018 m 26.5 (8 ranks), 57.6 (64)
+                     # (191,664 particles): 10,340 per rank on 8 ranks (12.4), 4,482 on 64
+                     # (21.5); at r0 0.018 m 12.2 (8 ranks), 23.6 (64)
 NBRS_DOMAIN = 16     # neighbour ranks of a rank (decomposeCase "ranks max": 12-15 at 64)
 SEARCH_HALO = 0.10   # share of a particle's step a halo particle costs (sort and lists)
 HALO_W = 40          # bytes per halo particle per iteration: x* (24), p/rho^2 and rho (16)
