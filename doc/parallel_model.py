@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """The scaling model of doc/parallel.md: predicted time per step and
-efficiency of pcisph -parallel on P ranks (one core each), for the two
-modes that exist (phase 1 gather mode, phase 1b halo mode) and for the
-domain decomposition that does not yet (phase 2).  Inputs measured on this machine are named
+efficiency of pcisph -parallel on P ranks (one core each), for the three
+modes that exist: phase 1 (gather mode), phase 1b (halo mode) and phase 2
+(the domain mode, the default: own + halo stored, halo exchanged
+point-to-point), and for phase 2 as designed (a 3-D partition with a
+one-cell halo, not built).  Inputs measured on this machine are named
 below; the interconnect figures are published ones (100 Gb/s InfiniBand,
 1-2 us).  Run: python3 doc/parallel_model.py
 """
@@ -21,6 +23,15 @@ F_OWN = 0.90         # halo mode: share of a serial step in the own-row work (pr
                      # collision, density, pressure force, viscosity, integration: 0.55 of 0.61 s)
 KAPPA_ROWS = 9.1     # halo of the rows partition: 1894 / 2995^(2/3) (decomposeCase, 8 ranks)
 STATE = 8            # halo mode: arrays gathered once per step (x, v, p, rho)
+# domain mode (phase 2 as built), measured by decomposeCase and the End summary:
+KAPPA_STORED = (12.0, 24.0)  # stored halo (rows one cell deep around columns of whole
+                     # x-rows) = kappa (N/P)^(2/3): tutorials/damBreak at r0 0.009 m
+                     # (191,664 particles): 10,340 per rank on 8 ranks (12.4), 4,482 on 64
+                     # (21.5); at r0 0.018 m 12.2 (8 ranks), 23.6 (64)
+NBRS_DOMAIN = 16     # neighbour ranks of a rank (decomposeCase "ranks max": 12-15 at 64)
+SEARCH_HALO = 0.10   # share of a particle's step a halo particle costs (sort and lists)
+HALO_W = 40          # bytes per halo particle per iteration: x* (24), p/rho^2 and rho (16)
+FILL_W = 72          # bytes per halo particle per step: x, v, rho, p, id (9 doubles)
 # ---- published: 100 Gb/s InfiniBand ----
 ALPHA = 1.5e-6       # s latency per message
 BW = 12.5e9          # bytes/s
@@ -69,11 +80,50 @@ def phase2(n, p, kappa):
     per_step = 4 * allreduce(p) + nbrs * ALPHA + 80 * halo / BW
     return compute, ITER * per_iter + per_step
 
+def small_alltoall(p):
+    """Alltoall of one int per rank (Bruck's algorithm for small messages)."""
+    return math.log2(p) * ALPHA if p > 1 else 0.0
+
+def phase2_built(n, p, kappa):
+    """Domain mode as built (solver/pcs_domain.c): each rank computes its
+    n/P own particles and sorts and searches its stored halo too; per
+    iteration x* and then p/rho^2 and rho of the stored halo with its
+    neighbour ranks (point-to-point), the block-sum chain (one double) and
+    the block sums of the serial order (Allgatherv of N / 4096 doubles),
+    one max-reduction; per step the migration and the halo fill (two
+    Alltoalls of counts, the halo's 9 doubles each, an Allreduce of P
+    counts, an Allgather of P counts, the step's reductions)."""
+    nl = n / p
+    halo = kappa * nl ** (2.0 / 3.0) if p > 1 else 0.0
+    nbrs = min(p - 1, NBRS_DOMAIN)
+    compute = nl * C + halo * C * SEARCH_HALO
+    blocks = math.log2(p) * ALPHA + 8 * n / 4096 / BW if p > 1 else 0.0
+    per_iter = 2 * nbrs * ALPHA + HALO_W * halo / BW + ALPHA + blocks + allreduce(p)
+    per_step = (2 * small_alltoall(p) + 2 * nbrs * ALPHA + FILL_W * halo / BW
+                + 2 * allreduce(p) + 4 * allreduce(p))
+    return compute, ITER * per_iter + per_step
+
+def table_built(title, n_of_p, ps):
+    print(f"\n{title}: phase 2 as built (domain mode), kappa_stored "
+          f"{KAPPA_STORED[0]}..{KAPPA_STORED[1]}")
+    print(f"{'ranks':>6} {'N':>10} | {'s/step':>17} {'comm %':>7} {'efficiency':>12} |"
+          f" {'stored / own':>12}")
+    for p in ps:
+        n = n_of_p(p)
+        ideal = n * C / p
+        r = [phase2_built(n, p, k) for k in KAPPA_STORED]
+        t = [c + m for c, m in r]
+        nl = n / p
+        st = [k * nl ** (2.0 / 3.0) / nl if p > 1 else 0.0 for k in KAPPA_STORED]
+        print(f"{p:>6} {n:>10.3g} | {t[0]:>8.4g}-{t[1]:<8.4g} {100 * r[1][1] / t[1]:>6.1f}% "
+              f"{100 * ideal / t[1]:>5.1f}-{100 * ideal / t[0]:<5.1f}% |"
+              f" {1 + st[0]:>5.2f}-{1 + st[1]:<5.2f}")
+
 def table(title, n_of_p, ps, ref_p):
     print(f"\n{title}")
     print(f"{'ranks':>6} {'N':>10} | {'phase 1: s/step':>15} {'comm %':>7} {'eff':>6} |"
           f" {'1b halo: s/step':>15} {'comm %':>7} {'eff':>6} |"
-          f" {'phase 2: s/step':>15} {'comm %':>7} {'eff':>6} (kappa {KAPPA[0]}..{KAPPA[1]})")
+          f" {'phase 2 designed':>15} {'comm %':>7} {'eff':>6} (kappa {KAPPA[0]}..{KAPPA[1]})")
     base1 = base2 = None
     for p in ps:
         n = n_of_p(p)
@@ -101,6 +151,10 @@ if __name__ == "__main__":
           [1, 8, 16, 32, 64], 1)
     table("Weak scaling, 97.7 k particles per rank (100 M on 1024 ranks)",
           lambda p: 97.7e3 * p, [64, 128, 256, 512, 1024], 64)
+    table_built("Strong scaling, CBD large (1.7 M fluid particles)", lambda p: 1.7e6,
+                [2, 8, 16, 32, 64])
+    table_built("Weak scaling, 97.7 k particles per rank (100 M on 1024 ranks)",
+                lambda p: 97.7e3 * p, [64, 128, 256, 512, 1024])
     c, m = phase1(1.7e6, 64, f_split=0.97)
     print(f"\nPhase 1 with every phase split (f_split 0.97), CBD large on 64 ranks: "
           f"{c + m:.4g} s/step, efficiency {100 * 1.7e6 * C / 64 / (c + m):.0f} % "

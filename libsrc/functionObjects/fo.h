@@ -78,6 +78,10 @@ fo_list *fo_select(const sl_case *c, const char *const *names, size_t n);
  * one cell since the sort and otherwise search all particles (fo_query.h).
  * A write error is a warning, and that object stops writing. */
 void fo_execute(fo_list *l, const pcs_view *s, double time, long step, int write_time);
+/* Whether that call would read the state (its first call, or an object
+ * due); changes nothing.  -parallel's domain mode gathers the state on
+ * rank 0 only then. */
+int fo_wants_state(const fo_list *l, double time, long step, int write_time);
 
 /* Open the files of a run starting at `time` without executing anything:
  * for a restart, whose first state was recorded by the previous run (and

@@ -344,6 +344,23 @@ void fo_execute(fo_list *l, const pcs_view *s, double time, long step, int write
     }
 }
 
+int fo_wants_state(const fo_list *l, double time, long step, int write_time)
+{
+    if (!l) return 0;
+    if (!l->started) return 1;
+    if (time <= l->last_time) return 0; /* going back after a shock: nothing executed */
+    if (l->post) return 1;
+    for (size_t i = 0; i < l->n; i++) {
+        const fo_object *o = &l->obj[i];
+        if (o->failed) continue;
+        if (write_time && o->type->at_write) return 1;
+        if (o->on_write_time ? write_time && o->nwrites % o->interval == 0
+                             : step % o->interval == 0)
+            return 1;
+    }
+    return 0;
+}
+
 unsigned fo_needs(const fo_list *l)
 {
     unsigned u = 0;

@@ -11,6 +11,7 @@
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 #include "core/sl_reduce.h"
+#include "effects/effects.h"
 #include "parallel/par.h"
 
 /* What travels with a particle that migrates or joins a halo: x, v, rho,
@@ -45,10 +46,16 @@ struct pcs_domain {
     size_t *goff; /* rank r's own rows are rows [goff[r], goff[r+1]) of the serial order */
     size_t *boff; /* the blocks whose last row rank r holds: [boff[r], boff[r+1]) */
     /* boundary particles: the search at which this rank last computed
-     * them (output takes the latest), marks of the boundary set */
+     * them, by creation index (output takes the latest), marks of the
+     * boundary set */
     long *bstamp, *bkey;
     uint32_t *bmark, bst;
     double *bval;
+    /* one-cell halo: boundary p/rho^2 from the owner of its cell */
+    int bsend_own; /* the boundary set is the own cells' active ones */
+    int *bscnt, *bsdis, *brcnt, *brdis;
+    uint32_t *bsend_idx, *brecv_idx;
+    size_t bsend_cap, brecv_cap, nbsend, nbrecv;
     /* rank 0: the gathered state */
     sl_fluid mirror;
     nbr_grid mgrid;
@@ -229,15 +236,36 @@ static void shrink(sl_fluid *f, size_t want)
     *f = g;
 }
 
+/* Cells of halo around the own rows.  One makes every own particle's lists
+ * complete, and those of the boundary particles in the own cells (their
+ * fluid neighbours are within a cell): their owner computes their density
+ * and pressure and sends p/rho^2 to the ranks whose rows see them.  Surface
+ * tension reads its neighbours' normals, which read their neighbours: two
+ * cells, and then every rank computes the boundary particles its rows see
+ * (their lists are complete too).  SLUICE_PARALLEL_HALO_DEPTH=1|2 chooses. */
+static int halo_depth(const pcs_solver *s)
+{
+    const char *e = getenv("SLUICE_PARALLEL_HALO_DEPTH");
+    int cells = s->eff && eff_find(s->eff, "surfaceTension") ? 2 : 1;
+    if (e && *e) {
+        cells = atoi(e);
+        if (cells != 1 && cells != 2)
+            sl_fatal("SLUICE_PARALLEL_HALO_DEPTH=%s: 1 or 2 (cells of halo)", e);
+        if (cells == 1 && s->eff && eff_find(s->eff, "surfaceTension"))
+            sl_fatal("SLUICE_PARALLEL_HALO_DEPTH=1: surfaceTension needs 2 cells of halo");
+    }
+    return cells * s->grid.reach;
+}
+
 /* The row tables of grid g and room for p ranks' cuts. */
-static struct pcs_domain *domain_new(const nbr_grid *g, int p)
+static struct pcs_domain *domain_new(const nbr_grid *g, int p, int depth)
 {
     struct pcs_domain *d = sl_calloc(1, sizeof *d, "domain decomposition");
     d->nx = (size_t)g->nc[0];
     d->ny = g->nc[1];
     d->nz = g->nc[2];
     d->nrows = (size_t)d->ny * (size_t)d->nz;
-    d->depth = 2 * g->reach;
+    d->depth = depth;
     d->ry = sl_malloc(d->nrows * sizeof *d->ry, "grid rows");
     d->rz = sl_malloc(d->nrows * sizeof *d->rz, "grid rows");
     d->kof = sl_malloc(d->nrows * sizeof *d->kof, "grid rows");
@@ -263,6 +291,8 @@ static struct pcs_domain *domain_new(const nbr_grid *g, int p)
     d->hscnt = ints(p), d->hsdis = ints(p), d->hrcnt = ints(p), d->hrdis = ints(p);
     d->ws = ints(p), d->wsd = ints(p), d->wr = ints(p), d->wrd = ints(p);
     d->pcnt = ints(p), d->pdis = ints(p);
+    d->bscnt = ints(p), d->bsdis = ints(p), d->brcnt = ints(p), d->brdis = ints(p);
+    d->bsend_own = depth < 2 * g->reach;
     prt_fluid_init(&d->mirror);
     nbr_list_init(&d->mbf);
     snap_init(&d->full);
@@ -273,7 +303,7 @@ static void domain_free(struct pcs_domain *d);
 
 void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t *halo)
 {
-    struct pcs_domain *d = domain_new(&s->grid, p);
+    struct pcs_domain *d = domain_new(&s->grid, p, halo_depth(s));
     const sl_fluid *f = s->f;
     for (size_t i = 0; i < f->n; i++) d->rowcount[row_of(s, d, f->x[i], f->y[i], f->z[i])]++;
     set_cuts(d, d->rowcount, p);
@@ -291,7 +321,7 @@ void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t
 void pcd_init(pcs_solver *s)
 {
     const int p = s->split.size, me = s->split.rank;
-    struct pcs_domain *d = domain_new(&s->grid, p);
+    struct pcs_domain *d = domain_new(&s->grid, p, halo_depth(s));
     s->split.dd = d;
     const char *th = getenv("SLUICE_PARALLEL_REBALANCE");
     d->threshold = th && *th ? atof(th) : 0.05;
@@ -309,7 +339,7 @@ void pcd_init(pcs_solver *s)
     s->split.nglobal = f->n;
     f->n = j;
     d->nown = j;
-    shrink(f, 2 * j + 1024); /* own and halo; grows when it must */
+    shrink(f, j + j / 4 + 1024); /* own and some halo; grows when it must */
     d->nsorted = 0;
 }
 
@@ -329,6 +359,8 @@ static void domain_free(struct pcs_domain *d)
     free(d->scnt), free(d->sdis), free(d->rcnt), free(d->rdis);
     free(d->hscnt), free(d->hsdis), free(d->hrcnt), free(d->hrdis);
     free(d->ws), free(d->wsd), free(d->wr), free(d->wrd), free(d->pcnt), free(d->pdis);
+    free(d->bscnt), free(d->bsdis), free(d->brcnt), free(d->brdis);
+    sl_free_aligned(d->bsend_idx), sl_free_aligned(d->brecv_idx);
     sl_free_aligned(d->dest);
     sl_free_aligned(d->sbuf), sl_free_aligned(d->rbuf);
     sl_free_aligned(d->send_idx), sl_free_aligned(d->recv_idx), sl_free_aligned(d->inv);
@@ -482,6 +514,68 @@ void pcd_distribute(pcs_solver *s)
 
 /* ---- after the search ---- */
 
+/* One-cell halo: the boundary particles whose p/rho^2 this rank sends
+ * (those of its own rows in another rank's halo rows) and receives (those
+ * of its halo rows, from their owners), in row order on both sides: the
+ * boundary is the same on every rank, sorted by cell, so no list travels. */
+static void boundary_lists(const pcs_solver *s, struct pcs_domain *d)
+{
+    const nbr_grid *g = &s->grid;
+    const int p = s->split.size, me = s->split.rank;
+    const size_t nx = d->nx;
+    for (int pass = 0; pass < 2; pass++) {
+        memset(d->bscnt, 0, (size_t)p * sizeof *d->bscnt);
+        memset(d->brcnt, 0, (size_t)p * sizeof *d->brcnt);
+        for (size_t k = 0; k < d->nrows; k++) {
+            const uint32_t b0 = g->bstart[k * nx], b1 = g->bstart[(k + 1) * nx];
+            if (b1 == b0) continue;
+            const int own = d->owner[k];
+            for (uint32_t q = d->nstart[k]; q < d->nstart[k + 1]; q++) {
+                const int to = (int)d->nrank[q];
+                if (own == me) { /* to rank `to` */
+                    if (pass)
+                        for (uint32_t j = b0; j < b1; j++)
+                            d->bsend_idx[d->bsdis[to] + d->bscnt[to]++] = j;
+                    else d->bscnt[to] += (int)(b1 - b0);
+                } else if (to == me) { /* from the owner */
+                    if (pass)
+                        for (uint32_t j = b0; j < b1; j++)
+                            d->brecv_idx[d->brdis[own] + d->brcnt[own]++] = j;
+                    else d->brcnt[own] += (int)(b1 - b0);
+                }
+            }
+        }
+        if (pass) break;
+        size_t ns = 0, nr = 0;
+        for (int q = 0; q < p; q++) {
+            d->bsdis[q] = as_int(ns);
+            ns += (size_t)d->bscnt[q];
+            d->brdis[q] = as_int(nr);
+            nr += (size_t)d->brcnt[q];
+        }
+        d->nbsend = ns;
+        d->nbrecv = nr;
+        d->bsend_idx = grow(d->bsend_idx, &d->bsend_cap, ns + 1, sizeof *d->bsend_idx, "halo rows");
+        d->brecv_idx = grow(d->brecv_idx, &d->brecv_cap, nr + 1, sizeof *d->brecv_idx, "halo rows");
+    }
+}
+
+/* The boundary particles' p/rho^2 from the owners of their cells. */
+static void exchange_boundary(pcs_solver *s, struct pcs_domain *d)
+{
+    const double t0 = omp_get_wtime();
+    const int p = s->split.size;
+    double *pt = s->b->pt;
+    d->sbuf = grow(d->sbuf, &d->sbuf_cap, d->nbsend + 1, sizeof *d->sbuf, "halo buffer");
+    d->rbuf = grow(d->rbuf, &d->rbuf_cap, d->nbrecv + 1, sizeof *d->rbuf, "halo buffer");
+    for (size_t k = 0; k < d->nbsend; k++) d->sbuf[k] = pt[d->bsend_idx[k]];
+    scale(d->bscnt, 1, d->ws, d->wsd, p);
+    scale(d->brcnt, 1, d->wr, d->wrd, p);
+    par_exchange_double(d->sbuf, d->ws, d->wsd, d->rbuf, d->wr, d->wrd);
+    for (size_t k = 0; k < d->nbrecv; k++) pt[d->brecv_idx[k]] = d->rbuf[k];
+    s->time.comm += omp_get_wtime() - t0;
+}
+
 void pcd_after_search(pcs_solver *s)
 {
     struct pcs_domain *d = s->split.dd;
@@ -533,17 +627,23 @@ void pcd_after_search(pcs_solver *s)
         d->bst = 1;
     }
     size_t nbs = 0;
-    const uint32_t *fbs = s->fb.start, *fbi = s->fb.idx;
-    for (size_t i = d->lo; i < d->hi; i++)
-        for (uint32_t q = fbs[i]; q < fbs[i + 1]; q++) {
-            const uint32_t j = fbi[q];
-            if (d->bmark[j] == d->bst) continue;
-            d->bmark[j] = d->bst;
-            sp->bset[nbs++] = j;
-        }
+    const size_t j0 = g->bstart[c0cell], j1 = g->bstart[c1cell];
+    if (d->bsend_own) { /* the active ones in the own cells (their lists are complete) */
+        for (size_t q = 0; q < s->nactive; q++)
+            if (s->active[q] >= j0 && s->active[q] < j1) sp->bset[nbs++] = s->active[q];
+        boundary_lists(s, d);
+    } else { /* two cells: those the own rows see */
+        const uint32_t *fbs = s->fb.start, *fbi = s->fb.idx;
+        for (size_t i = d->lo; i < d->hi; i++)
+            for (uint32_t q = fbs[i]; q < fbs[i + 1]; q++) {
+                const uint32_t j = fbi[q];
+                if (d->bmark[j] == d->bst) continue;
+                d->bmark[j] = d->bst;
+                sp->bset[nbs++] = j;
+            }
+    }
     sp->nbset = nbs;
     /* the active boundary particles in the own cells: counted once */
-    const size_t j0 = g->bstart[c0cell], j1 = g->bstart[c1cell];
     long act = 0;
     for (size_t q = 0; q < s->nactive; q++) act += s->active[q] >= j0 && s->active[q] < j1;
     sp->nactive_all = (size_t)par_sum_long(act);
@@ -647,6 +747,7 @@ double pcd_after_density(pcs_solver *s, double emax)
      * density pass's EFF_DENSITY effects) */
     double *a[2] = {s->f->pt, s->f->rho};
     exchange(s, a, 2);
+    if (d->bsend_own && s->prm.method->wall_density) exchange_boundary(s, d);
     const double t1 = omp_get_wtime();
     if (!s->prm.method->wall_density) { /* measured compression of every row (sl_sum) */
         d->vol_all = grow(d->vol_all, &d->vol_cap, n + 1, sizeof *d->vol_all, "density error");
@@ -657,7 +758,9 @@ double pcd_after_density(pcs_solver *s, double emax)
         par_allgatherv(s->err_vol + d->lo, d->pcnt[me], d->vol_all, d->pcnt, d->pdis);
         d->vol_valid = 1;
     }
-    for (size_t q = 0; q < s->split.nbset; q++) d->bstamp[s->split.bset[q]] = d->c.searches;
+    /* by creation index: moving walls re-sort the boundary every step */
+    const uint32_t *bid = s->b->id;
+    for (size_t q = 0; q < s->split.nbset; q++) d->bstamp[bid[s->split.bset[q]]] = d->c.searches;
     emax = par_max_double(emax); /* a maximum: exact in any order */
     s->time.comm += omp_get_wtime() - t1;
     return emax;
@@ -730,12 +833,12 @@ static void gather_boundary(pcs_solver *s, struct pcs_domain *d)
     const uint32_t *st = s->bf.start;
     const int lists = s->bf.n == nb;
     for (size_t j = 0; j < nb; j++) {
-        d->bkey[j] = d->bstamp[j] * p + (p - 1 - me);
+        d->bkey[j] = d->bstamp[b->id[j]] * p + (p - 1 - me);
         d->bkey[nb + j] = lists && st[j + 1] > st[j];
     }
     par_max_longs(d->bkey, 2 * nb);
     for (size_t j = 0; j < nb; j++) {
-        const int mine = d->bkey[j] == d->bstamp[j] * p + (p - 1 - me);
+        const int mine = d->bkey[j] == d->bstamp[b->id[j]] * p + (p - 1 - me);
         d->bval[3 * j] = mine ? b->rho[j] : 0.0;
         d->bval[3 * j + 1] = mine ? b->p[j] : 0.0;
         d->bval[3 * j + 2] = mine ? b->pt[j] : 0.0;

@@ -13,18 +13,18 @@
  * Storage: between steps a rank holds its own particles only; at the start
  * of a step (before the sort) particles whose cell left its rows migrate
  * to their new owner, and the halo is received from its owners: the
- * particles of the rows within two cells (in y and z) of the own rows.
- * One cell would do for the fluid rows' own sums; the second makes the
- * lists of the boundary particles the own rows see, and of the first halo
- * layer (surface tension's normals), complete, so every rank computes the
- * density and pressure of the boundary particles it sees with the serial
- * bits.  The neighbour lists over that window hold each own particle's
- * serial neighbours in the serial order, so every per-particle sum is the
- * serial sum.  Boundary particles stay replicated (every rank holds all;
- * each computes those its rows see).
+ * particles of the rows within one cell (in y and z) of the own rows.  The
+ * neighbour lists over that window hold each own particle's serial
+ * neighbours in the serial order, so every per-particle sum is the serial
+ * sum.  The boundary particles stay replicated (every rank holds all);
+ * those in a rank's cells (whose lists are complete) are computed by it
+ * and their p/rho^2 sent to the ranks whose rows see them.  Surface
+ * tension reads its neighbours' normals: with it the halo is two cells
+ * deep and every rank computes the boundary particles its rows see.
  *
  * Per PCISPH iteration: x* of the halo after the prediction, p/rho^2 and
- * rho after the density pass, point-to-point from the owners
+ * rho after the density pass (and the boundary's p/rho^2), point-to-point
+ * from the owners
  * (par_exchange_double); the density error's block sums in the serial
  * order (the blocks of SL_REDUCE_BLOCK rows of the serial array, made
  * from every rank's whole blocks and the rows of the blocks it shares);

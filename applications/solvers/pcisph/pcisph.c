@@ -819,7 +819,10 @@ int main(int argc, char **argv)
     while (r.t < r.t_end - 1e-9 * r.ctl.dt) {
         advance(&r);
         poll_write_requests(&r);
-        if (fo_on) pcs_gather(&r.s); /* -parallel's domain mode: on rank 0 */
+        if (fo_on) { /* -parallel's domain mode: the state on rank 0 when an object reads it */
+            const int want = r.root && fo_wants_state(fo, r.t, r.step, r.last_write == r.t);
+            if (par_max_int(want)) pcs_gather(&r.s);
+        }
         fo_execute(fo, &view, r.t, r.step, r.last_write == r.t);
         progress(&r);
         if (stop_requested) {

@@ -10,7 +10,8 @@
  *   domain whole rows of grid cells (x-rows in Morton order of (y, z)) cut
  *          by count: what pcisph -parallel's domain mode owns per rank
  *          (phase 2, solver/pcs_domain.h); it also prints the particles a
- *          rank stores there (own + the halo rows, two cells deep);
+ *          rank stores there (own + the halo rows, one cell deep, two with
+ *          surface tension);
  *   rows   contiguous ranges of the cell-sorted rows: what the halo and
  *          gather modes compute per rank (phase 1, replicated state);
  *   slabs  slabs along the longest axis of the fluid's bounding box;
@@ -297,8 +298,9 @@ int main(int argc, char **argv)
         hsum += (double)hstored[r];
     }
     printf("\ndomain: pcisph -parallel's domain mode; each rank stores its own particles and the "
-           "halo\nrows two cells deep: stored per rank min %zu, max %zu of %zu; stored halo per "
-           "rank\nmin %zu, max %zu, mean %.0f (%.0f %% of the mean own count)\n",
+           "halo\nrows around them (one cell deep; two with surface tension): stored per rank min "
+           "%zu,\nmax %zu of %zu; stored halo per rank min %zu, max %zu, mean %.0f (%.0f %% of the "
+           "mean own count)\n",
            smin, smax, n, hmin, hmax, hsum / p, n ? 100.0 * hsum / (double)n : 0.0);
     write_vtu(&c, &s, r_dom, r_rows, r_slabs, r_rcb);
     free(r_dom);
