@@ -871,6 +871,17 @@ void pcs_step(pcs_solver *s, pcs_stats *st)
     s->t += s->dt;
 }
 
+void pcs_step_in_place(pcs_solver *s, pcs_stats *st)
+{
+    memset(st, 0, sizeof *st);
+    ensure_scratch(s);
+    PHASE(s, search, pcs_find_neighbours(s));
+    PHASE(s, forces, compute_forces(s));
+    pressure_solve(s, st);
+    PHASE(s, integrate, integrate(s, st));
+    dom_after_integrate(&s->halo, s->f);
+}
+
 void pcs_post_step(pcs_solver *s, double t, double dt)
 {
     const size_t n0 = s->f->n;

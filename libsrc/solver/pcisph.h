@@ -184,6 +184,9 @@ void pcs_set_dt(pcs_solver *s, double dt);
 void pcs_place_world(pcs_solver *s, double t);
 /* Advance by s->dt from time s->t (s->t is advanced too). */
 void pcs_step(pcs_solver *s, pcs_stats *st);
+/* pcs_step with the world held where pcs_place_world put it (no moving
+ * body moves) and s->t kept: the pseudo-time step of solver/pcs_relax.h. */
+void pcs_step_in_place(pcs_solver *s, pcs_stats *st);
 /* After a step from t to t + dt was accepted: the post-step effects
  * (emitters). */
 void pcs_post_step(pcs_solver *s, double t, double dt);
