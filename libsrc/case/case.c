@@ -156,9 +156,17 @@ static void read_timestep(sl_case *c)
 
 /* The keys of constant/fluidProperties besides the effects' own entries
  * (effects/: eff_fluid_effects). */
-static const char *const fluid_keys[] = {
-    "rho0",         "particleSpacing", "gravity",        "eta", "minIterations", "maxIterations",
-    "fluidRegions", "emitters",        "initialPacking", NULL};
+static const char *const fluid_keys[] = {"rho0",
+                                         "particleSpacing",
+                                         "gravity",
+                                         "eta",
+                                         "minIterations",
+                                         "maxIterations",
+                                         "fluidRegions",
+                                         "emitters",
+                                         "initialPacking",
+                                         "kernelSupport",
+                                         NULL};
 
 /* fluid_keys and the names of the effects of constant/fluidProperties. */
 static const char **fluid_and_effect_keys(void)
@@ -395,6 +403,11 @@ static void read_fluid(sl_case *c)
         bad_value(d, "rho0", "must be a liquid's rest density in kg/m^3 (between 1e-3 and 1e5)");
     need(dict_get_scalar(d, "particleSpacing", &p->r0, &err), &err);
     positive(d, "particleSpacing", p->r0);
+    need(dict_get_scalar_or(d, "kernelSupport", 2.0, &p->support, &err), &err);
+    if (!(p->support >= 2.0 && p->support <= 4.0))
+        bad_value(d, "kernelSupport",
+                  "must be the kernel's support radius in particle spacings, between 2 (the "
+                  "paper's) and 4");
     need(dict_get_vector_or(d, "gravity", g0, p->gravity, &err), &err);
     double gn = sqrt(p->gravity[0] * p->gravity[0] + p->gravity[1] * p->gravity[1] +
                      p->gravity[2] * p->gravity[2]);
@@ -426,7 +439,7 @@ static void read_fluid(sl_case *c)
     /* the effects of the fluid, in the order they act: gravity first */
     void *g = eff_gravity_new(p->gravity);
     if (g) eff_add(&c->effects, &eff_gravity, g);
-    const eff_setup su = {p->r0, pcs_support(p->r0), p->rho0, p->gravity};
+    const eff_setup su = {p->r0, pcs_support(p), p->rho0, p->gravity};
     eff_read_fluid(&c->effects, d, &su);
     if (dict_has(d, "emitters")) {
         const dict *em = dict_sub(d, "emitters");
@@ -1051,13 +1064,13 @@ void case_build(sl_case *c)
         sl_fatal("%s: too many particles (%zu fluid, %zu boundary)", c->dir, c->fluid.n,
                  c->boundary.n);
     for (int k = 0; k < 3; k++) {
-        c->lo[k] -= 2 * r0;
-        c->hi[k] += 2 * r0;
+        c->lo[k] -= pcs_support(&c->prm);
+        c->hi[k] += pcs_support(&c->prm);
     }
     for (int k = 0; k < 3; k++) /* room for the periodic images (h beyond the faces) */
         if (c->prm.periodic.axes & (1u << k)) {
-            c->lo[k] = fmin(c->lo[k], c->prm.periodic.lo[k] - 3 * r0);
-            c->hi[k] = fmax(c->hi[k], c->prm.periodic.hi[k] + 3 * r0);
+            c->lo[k] = fmin(c->lo[k], c->prm.periodic.lo[k] - pcs_support(&c->prm) - r0);
+            c->hi[k] = fmax(c->hi[k], c->prm.periodic.hi[k] + pcs_support(&c->prm) + r0);
         }
     void *emit = eff_emitter_new(c->emitters, c->nemitters, (uint32_t)c->fluid.n);
     if (emit) eff_add(&c->effects, &eff_emitter, emit);

@@ -50,9 +50,9 @@ typedef struct fire {
     long positive; /* steps since the power was last negative */
 } fire;
 
-#define FIRE_ALPHA0   0.1  /* alpha_start */
-#define FIRE_F_ALPHA  0.99 /* alpha's factor after each downhill step */
-#define FIRE_N_MIN    5    /* downhill steps before alpha falls */
+#define FIRE_ALPHA0  0.1  /* alpha_start */
+#define FIRE_F_ALPHA 0.99 /* alpha's factor after each downhill step */
+#define FIRE_N_MIN   5    /* downhill steps before alpha falls */
 
 /* After a step: P = F . v over every particle (in index order: the same
  * sum on every thread count); downhill (P > 0) the velocity turned

@@ -88,6 +88,8 @@ static const bad_input bad_inputs[] = {
     {"constant/fluidProperties", "eta 1e999;\n", NULL, "fluidProperties:4", "eta"},
     {"constant/fluidProperties", "gravity (0 0);\n", NULL, "fluidProperties:4", "gravity"},
     {"constant/fluidProperties", "maxIterations 2;\n", NULL, "fluidProperties:4", "maxIterations"},
+    {"constant/fluidProperties", "kernelSupport 1.5;\n", NULL, "fluidProperties:4",
+     "'kernelSupport'"},
     {"constant/fluidProperties", "initialPacking hexagonal;\n", NULL, "fluidProperties:4",
      "'hexagonal' is not one of: cubic relaxed"},
     {"constant/fluidProperties", "initialPacking (relaxed);\n", NULL, "fluidProperties:4",
