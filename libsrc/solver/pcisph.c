@@ -884,8 +884,9 @@ pcs_view pcs_view_of(const pcs_solver *s)
     /* domain mode: rank 0 shows the state gathered (pcs_gather) */
     const sl_fluid *mf = pcd_mirror(s);
     const nbr_list *mbf = pcd_mirror_bf(s);
+    const sl_boundary *mb = pcd_mirror_boundary(s);
     return (pcs_view){.f = mf ? mf : s->f,
-                      .b = s->b,
+                      .b = mb ? mb : s->b,
                       .grid = mf ? pcd_mirror_grid(s) : &s->grid,
                       .bf = mbf ? mbf : &s->bf,
                       .k = s->k,
@@ -910,6 +911,11 @@ void pcs_compute_density(pcs_solver *s)
 }
 
 size_t pcs_fluid_total(const pcs_solver *s) { return s->split.domain ? s->split.nglobal : s->f->n; }
+
+size_t pcs_boundary_total(const pcs_solver *s)
+{
+    return s->split.domain ? s->split.nbglobal : s->b->n;
+}
 
 void pcs_gather(pcs_solver *s)
 {
