@@ -109,9 +109,16 @@ typedef struct pcs_split {
      * stores its own particles and their halo only */
     int domain;
     struct pcs_domain *dd;
-    ptrdiff_t gshift;   /* own row i is row i + gshift of the serial order */
-    size_t nglobal;     /* fluid particles of all ranks */
-    size_t nbglobal;    /* boundary particles of all ranks (each rank stores some) */
+    ptrdiff_t gshift; /* own row i is row i + gshift of the serial order */
+    size_t nglobal;   /* fluid particles of all ranks */
+    size_t nbglobal;  /* boundary particles of all ranks (each rank stores some) */
+    /* domain mode's overlap (SLUICE_PARALLEL_OVERLAP): the own rows whose
+     * lists hold no halo particle, order[0..ninner), computed while the
+     * halo's values travel, then the others, order[ninner..norder); the
+     * boundary set likewise, bset[0..nbset_inner) first */
+    int overlap;
+    uint32_t *order;
+    size_t ninner, norder, order_cap, nbset_inner;
     size_t nactive_all; /* active boundary particles of all ranks */
 } pcs_split;
 

@@ -61,8 +61,13 @@ struct pcs_domain {
     size_t brow_cap;
     uint32_t *bmark, bst; /* marks of the boundary set */
     size_t bmark_cap;
-    double bstored_sum;
+    double bstored_sum, inner_sum;
     long bdistributions, bmigrated;
+    /* the iteration's exchanges: buffers, and which one is in flight (0
+     * none, 1 x*, 2 p/rho^2 and rho) */
+    double *isbuf, *irbuf;
+    size_t isbuf_cap, irbuf_cap;
+    int inflight, with_b;
     /* one-cell halo: boundary p/rho^2 from the owner of its cell */
     int bsend_own; /* the boundary set is the own cells' active ones */
     int *bscnt, *bsdis, *brcnt, *brdis;
@@ -584,6 +589,13 @@ void pcd_init(pcs_solver *s)
     keep_boundary_rows(s, d);
     sl_free_aligned(s->split.bbuf); /* the gather mode's, sized for every boundary particle */
     s->split.bbuf = NULL;
+    /* overlap: the rows that read no halo value computed while it travels
+     * (not with EFF_DENSITY effects, whose set-up reads the halo's x*) */
+    const char *ov = getenv("SLUICE_PARALLEL_OVERLAP");
+    if (ov && *ov && strcmp(ov, "0") && strcmp(ov, "1"))
+        sl_fatal("SLUICE_PARALLEL_OVERLAP=%s: 0 (blocking exchanges) or 1 (overlap)", ov);
+    s->split.overlap = !(ov && !strcmp(ov, "0")) && s->ndens == 0;
+    d->with_b = d->bsend_own && s->prm.method->wall_density;
 }
 
 void pcd_free(pcs_solver *s)
@@ -604,6 +616,7 @@ static void domain_free(struct pcs_domain *d)
     free(d->ws), free(d->wsd), free(d->wr), free(d->wrd), free(d->pcnt), free(d->pdis);
     free(d->bscnt), free(d->bsdis), free(d->brcnt), free(d->brdis), free(d->bpos);
     sl_free_aligned(d->bown), sl_free_aligned(d->brow), sl_free_aligned(d->bmark);
+    sl_free_aligned(d->isbuf), sl_free_aligned(d->irbuf);
     sl_free_aligned(d->mbstart), sl_free_aligned(d->bmap), sl_free_aligned(d->bkeys);
     prt_boundary_free(&d->mbound);
     sl_free_aligned(d->bsend_idx), sl_free_aligned(d->brecv_idx);
@@ -808,20 +821,45 @@ static void boundary_lists(const pcs_solver *s, struct pcs_domain *d)
     }
 }
 
-/* The boundary particles' p/rho^2 from the owners of their cells. */
-static void exchange_boundary(pcs_solver *s, struct pcs_domain *d)
+/* The overlap's order: the own rows whose lists hold no halo particle
+ * (no fluid neighbour outside the own rows, no boundary neighbour outside
+ * the own cells [j0, j1): its p/rho^2 would travel) first, in order, then
+ * the others; the boundary set's particles whose fluid neighbours are all
+ * own first (their density reads no halo x*). */
+static void split_inner(pcs_solver *s, struct pcs_domain *d, size_t j0, size_t j1)
 {
-    const double t0 = omp_get_wtime();
-    const int p = s->split.size;
-    double *pt = s->b->pt;
-    d->sbuf = grow(d->sbuf, &d->sbuf_cap, d->nbsend + 1, sizeof *d->sbuf, "halo buffer");
-    d->rbuf = grow(d->rbuf, &d->rbuf_cap, d->nbrecv + 1, sizeof *d->rbuf, "halo buffer");
-    for (size_t k = 0; k < d->nbsend; k++) d->sbuf[k] = pt[d->bsend_idx[k]];
-    scale(d->bscnt, 1, d->ws, d->wsd, p);
-    scale(d->brcnt, 1, d->wr, d->wrd, p);
-    par_exchange_double(d->sbuf, d->ws, d->wsd, d->rbuf, d->wr, d->wrd);
-    for (size_t k = 0; k < d->nbrecv; k++) pt[d->brecv_idx[k]] = d->rbuf[k];
-    s->time.comm += omp_get_wtime() - t0;
+    pcs_split *sp = &s->split;
+    const uint32_t *ffs = s->ff.start, *ffi = s->ff.idx, *fbs = s->fb.start, *fbi = s->fb.idx;
+    const size_t lo = d->lo, hi = d->hi, m = hi - lo;
+    sp->order = grow(sp->order, &sp->order_cap, m + 1, sizeof *sp->order, "own rows");
+    size_t a = 0, z = m;
+    for (size_t i = lo; i < hi; i++) { /* inner from the front, border from the back */
+        int in = 1;
+        for (uint32_t q = ffs[i]; in && q < ffs[i + 1]; q++) in = ffi[q] >= lo && ffi[q] < hi;
+        for (uint32_t q = fbs[i]; in && q < fbs[i + 1]; q++) in = fbi[q] >= j0 && fbi[q] < j1;
+        if (in) sp->order[a++] = (uint32_t)i;
+        else sp->order[--z] = (uint32_t)i;
+    }
+    for (size_t u = a, v = m; u + 1 < v; u++, v--) { /* the border rows in order */
+        const uint32_t t = sp->order[u];
+        sp->order[u] = sp->order[v - 1];
+        sp->order[v - 1] = t;
+    }
+    sp->ninner = a;
+    sp->norder = m;
+    d->inner_sum += m ? (double)a / (double)m : 1.0;
+    const uint32_t *bfs = s->bf.start, *bfi = s->bf.idx;
+    size_t nin = 0;
+    for (size_t q = 0; q < sp->nbset; q++) {
+        const uint32_t j = sp->bset[q];
+        int in = 1;
+        for (uint32_t k = bfs[j]; in && k < bfs[j + 1]; k++) in = bfi[k] >= lo && bfi[k] < hi;
+        if (in) { /* to the front (the set's order does not matter) */
+            sp->bset[q] = sp->bset[nin];
+            sp->bset[nin++] = j;
+        }
+    }
+    sp->nbset_inner = nin;
 }
 
 void pcd_after_search(pcs_solver *s)
@@ -895,6 +933,7 @@ void pcd_after_search(pcs_solver *s)
             }
     }
     sp->nbset = nbs;
+    if (sp->overlap) split_inner(s, d, j0, j1);
     /* the active boundary particles in the own cells: counted once */
     long act = 0;
     for (size_t q = 0; q < s->nactive; q++) act += s->active[q] >= j0 && s->active[q] < j1;
@@ -913,27 +952,92 @@ void pcd_after_search(pcs_solver *s)
 
 /* ---- per PCISPH iteration ---- */
 
-/* The halo's w values per particle from their owners: pack from send_idx,
- * unpack to recv_idx. */
-static void exchange(pcs_solver *s, double *const *a, int w)
+/* The halo's x* (3 doubles per particle) started, from send_idx. */
+void pcd_exchange_predicted(pcs_solver *s)
 {
     struct pcs_domain *d = s->split.dd;
     const int p = s->split.size;
     const double t0 = omp_get_wtime();
-    for (size_t k = 0; k < d->nsend; k++)
-        for (int c = 0; c < w; c++) d->sbuf[(size_t)w * k + (size_t)c] = a[c][d->send_idx[k]];
-    scale(d->hscnt, w, d->ws, d->wsd, p);
-    scale(d->hrcnt, w, d->wr, d->wrd, p);
-    par_exchange_double(d->sbuf, d->ws, d->wsd, d->rbuf, d->wr, d->wrd);
-    for (size_t k = 0; k < d->nrecv; k++)
-        for (int c = 0; c < w; c++) a[c][d->recv_idx[k]] = d->rbuf[(size_t)w * k + (size_t)c];
+    const double *x = s->f->xs, *y = s->f->ys, *z = s->f->zs;
+    d->isbuf = grow(d->isbuf, &d->isbuf_cap, 3 * d->nsend + 1, sizeof *d->isbuf, "halo buffer");
+    d->irbuf = grow(d->irbuf, &d->irbuf_cap, 3 * d->nrecv + 1, sizeof *d->irbuf, "halo buffer");
+    double *o = d->isbuf;
+    for (size_t k = 0; k < d->nsend; k++) {
+        const uint32_t i = d->send_idx[k];
+        o[3 * k] = x[i], o[3 * k + 1] = y[i], o[3 * k + 2] = z[i];
+    }
+    scale(d->hscnt, 3, d->ws, d->wsd, p);
+    scale(d->hrcnt, 3, d->wr, d->wrd, p);
+    par_exchange_start(d->isbuf, d->ws, d->wsd, d->irbuf, d->wr, d->wrd);
+    d->inflight = 1;
+    s->time.comm += omp_get_wtime() - t0;
+    if (!s->split.overlap) pcd_wait(s);
+}
+
+/* The halo's p/rho^2 and rho (2 doubles per particle), and with the
+ * one-cell halo the boundary's p/rho^2 from the owners of their cells (1
+ * each), in one message per neighbour rank, started. */
+static void start_pressure(pcs_solver *s, struct pcs_domain *d)
+{
+    const int p = s->split.size;
+    const double t0 = omp_get_wtime();
+    const double *pt = s->f->pt, *rho = s->f->rho, *bpt = s->b->pt;
+    const int wb = d->with_b;
+    d->isbuf = grow(d->isbuf, &d->isbuf_cap, 2 * d->nsend + d->nbsend + 1, sizeof *d->isbuf,
+                    "halo buffer");
+    d->irbuf = grow(d->irbuf, &d->irbuf_cap, 2 * d->nrecv + d->nbrecv + 1, sizeof *d->irbuf,
+                    "halo buffer");
+    size_t at = 0, rat = 0;
+    for (int q = 0; q < p; q++) {
+        d->wsd[q] = as_int(at);
+        for (int k = d->hsdis[q]; k < d->hsdis[q] + d->hscnt[q]; k++) {
+            const uint32_t i = d->send_idx[k];
+            d->isbuf[at++] = pt[i];
+            d->isbuf[at++] = rho[i];
+        }
+        if (wb)
+            for (int k = d->bsdis[q]; k < d->bsdis[q] + d->bscnt[q]; k++)
+                d->isbuf[at++] = bpt[d->bsend_idx[k]];
+        d->ws[q] = as_int(at) - d->wsd[q];
+        d->wrd[q] = as_int(rat);
+        rat += 2 * (size_t)d->hrcnt[q] + (wb ? (size_t)d->brcnt[q] : 0);
+        d->wr[q] = as_int(rat) - d->wrd[q];
+    }
+    par_exchange_start(d->isbuf, d->ws, d->wsd, d->irbuf, d->wr, d->wrd);
+    d->inflight = 2;
     s->time.comm += omp_get_wtime() - t0;
 }
 
-void pcd_exchange_predicted(pcs_solver *s)
+void pcd_wait(pcs_solver *s)
 {
-    double *a[3] = {s->f->xs, s->f->ys, s->f->zs};
-    exchange(s, a, 3);
+    struct pcs_domain *d = s->split.dd;
+    if (!d || !d->inflight) return;
+    const int p = s->split.size;
+    const double t0 = omp_get_wtime();
+    par_exchange_wait();
+    const double *o = d->irbuf;
+    if (d->inflight == 1) {
+        double *x = s->f->xs, *y = s->f->ys, *z = s->f->zs;
+        for (size_t k = 0; k < d->nrecv; k++) {
+            const uint32_t i = d->recv_idx[k];
+            x[i] = o[3 * k], y[i] = o[3 * k + 1], z[i] = o[3 * k + 2];
+        }
+    } else {
+        double *pt = s->f->pt, *rho = s->f->rho, *bpt = s->b->pt;
+        size_t at = 0;
+        for (int q = 0; q < p; q++) {
+            for (int k = d->hrdis[q]; k < d->hrdis[q] + d->hrcnt[q]; k++) {
+                const uint32_t i = d->recv_idx[k];
+                pt[i] = o[at++];
+                rho[i] = o[at++];
+            }
+            if (d->with_b)
+                for (int k = d->brdis[q]; k < d->brdis[q] + d->brcnt[q]; k++)
+                    bpt[d->brecv_idx[k]] = o[at++];
+        }
+    }
+    d->inflight = 0;
+    s->time.comm += omp_get_wtime() - t0;
 }
 
 /* The rank whose own rows hold row g of the serial order. */
@@ -998,10 +1102,9 @@ double pcd_after_density(pcs_solver *s, double emax)
     chain_block_sums(s, d);
     s->time.comm += omp_get_wtime() - t0;
     /* the halo's p/rho^2 (the pressure force) and density (the next
-     * density pass's EFF_DENSITY effects) */
-    double *a[2] = {s->f->pt, s->f->rho};
-    exchange(s, a, 2);
-    if (d->bsend_own && s->prm.method->wall_density) exchange_boundary(s, d);
+     * density pass's EFF_DENSITY effects), and the boundary's p/rho^2:
+     * started, completed before the pressure force reads them */
+    start_pressure(s, d);
     const double t1 = omp_get_wtime();
     if (!s->prm.method->wall_density) { /* measured compression of every row (sl_sum) */
         d->vol_all = grow(d->vol_all, &d->vol_cap, n + 1, sizeof *d->vol_all, "density error");
@@ -1014,6 +1117,7 @@ double pcd_after_density(pcs_solver *s, double emax)
     }
     emax = par_max_double(emax); /* a maximum: exact in any order */
     s->time.comm += omp_get_wtime() - t1;
+    if (!s->split.overlap) pcd_wait(s);
     return emax;
 }
 
@@ -1344,6 +1448,8 @@ pcd_counts pcd_counters(const pcs_solver *s)
     c.nb_global = d->nb_global;
     c.bdistributions = d->bdistributions;
     c.bmigrated = par_sum_long(d->bmigrated);
+    c.overlap = s->split.overlap;
+    c.inner_share = -par_max_double(-d->inner_sum / searches);
     if ((size_t)par_sum_long((long)d->nb_own) != d->nb_global)
         sl_fatal("pcs_domain: the ranks own %ld boundary particles of %zu (internal error)",
                  par_sum_long((long)d->nb_own), d->nb_global);

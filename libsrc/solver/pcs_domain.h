@@ -67,8 +67,15 @@ void pcd_distribute(pcs_solver *s);
 /* After the sort and the lists: own rows, exchange lists, the boundary
  * particles this rank computes, counts. */
 void pcd_after_search(pcs_solver *s);
+/* Per PCISPH iteration: the halo's x* after the prediction, and after the
+ * density pass the block sums, the halo's p/rho^2 and rho (and the
+ * boundary's p/rho^2), the largest compression.  With the overlap
+ * (split.overlap) the point-to-point messages are only started: the
+ * passes compute the rows that read no halo value, then pcd_wait
+ * completes them (a no-op when nothing is in flight). */
 void pcd_exchange_predicted(pcs_solver *s);
 double pcd_after_density(pcs_solver *s, double emax);
+void pcd_wait(pcs_solver *s);
 /* After the integration (and after the density for output): the own
  * rows to the front, the halo dropped. */
 void pcd_keep_own(pcs_solver *s);
@@ -109,6 +116,11 @@ typedef struct pcd_counts {
     size_t bstored_min, bstored_max, nb_global;
     double bstored_mean;
     long bdistributions, bmigrated;
+    /* the overlap: on (split.overlap); the share of the own rows computed
+     * while the halo travels, mean over the searches, smallest over the
+     * ranks */
+    int overlap;
+    double inner_share;
 } pcd_counts;
 pcd_counts pcd_counters(const pcs_solver *s);
 

@@ -110,6 +110,17 @@ static void test_dam_break_np123(void **state)
                             "tests/output/parDam3/log.pcisph | awk '{ exit !($1 < $2 && $3 == "
                             "0) }'"),
                      0);
+    /* the overlap (the default): rows that read no halo value computed
+     * while x* and p/rho^2 travel; the blocking exchanges give the same bytes */
+    assert_int_equal(system("grep -Eq 'overlap: [1-9][0-9]* % of the own rows' "
+                            "tests/output/parDam3/log.pcisph"),
+                     0);
+    setenv("SLUICE_PARALLEL_OVERLAP", "0", 1);
+    int rc = run_np("tests/cases/damBreakShort", "parDamBlocking3", dam, 3);
+    unsetenv("SLUICE_PARALLEL_OVERLAP");
+    assert_int_equal(rc, 0);
+    same_output("parDamSerial", "parDamBlocking3");
+    assert_int_equal(system("grep -q 'no overlap' tests/output/parDamBlocking3/log.pcisph"), 0);
 }
 
 static void test_ranks_times_threads(void **state)

@@ -626,6 +626,14 @@ static void summary_parallel(const run *r, double wall)
                 "%zu of %zu (this rank's mean %.0f); distributed %ld times, %ld changed owner",
                 dc.bstored_min, dc.bstored_max, dc.nb_global, dc.bstored_mean, dc.bdistributions,
                 dc.bmigrated);
+        if (dc.overlap)
+            sl_info("  parallel: overlap: %.0f %% of the own rows (the smallest share of a rank, "
+                    "mean over searches) read no halo value and are computed while x* and "
+                    "p/rho^2 travel",
+                    100 * dc.inner_share);
+        else
+            sl_info("  parallel: no overlap (SLUICE_PARALLEL_OVERLAP=0, or EFF_DENSITY effects): "
+                    "the halo exchanges block");
         sl_info("  parallel: %ld rebalances (largest imbalance max/mean %.3f); %ld gathers of the "
                 "state on rank 0 for output and function objects, %.2f s; resident memory per "
                 "rank at the end %.1f-%.1f MB",
