@@ -115,8 +115,16 @@ typedef struct pcs_split {
      * stores its own particles and their halo only */
     int domain;
     struct pcs_domain *dd;
-    ptrdiff_t gshift;   /* own row i is row i + gshift of the serial order */
-    size_t nglobal;     /* fluid particles of all ranks */
+    ptrdiff_t gshift; /* own row i is row i + gshift of the serial order */
+    size_t nglobal;   /* fluid particles of all ranks */
+    size_t nbglobal;  /* boundary particles of all ranks (each rank stores some) */
+    /* domain mode's overlap (SLUICE_PARALLEL_OVERLAP): the own rows whose
+     * lists hold no halo particle, order[0..ninner), computed while the
+     * halo's values travel, then the others, order[ninner..norder); the
+     * boundary set likewise, bset[0..nbset_inner) first */
+    int overlap;
+    uint32_t *order;
+    size_t ninner, norder, order_cap, nbset_inner;
     size_t nactive_all; /* active boundary particles of all ranks */
 } pcs_split;
 
@@ -211,6 +219,9 @@ void pcs_compute_density(pcs_solver *s);
 /* The fluid particles of the case (all ranks'; s->f->n is this rank's in
  * -parallel's domain mode). */
 size_t pcs_fluid_total(const pcs_solver *s);
+/* The boundary particles of the case (images included; s->b->n is those
+ * this rank stores in -parallel's domain mode). */
+size_t pcs_boundary_total(const pcs_solver *s);
 /* -parallel's domain mode (collective; nothing otherwise): the state of
  * every rank gathered on rank 0 in the serial order, where pcs_view_of
  * shows it to function objects and output (done by pcs_compute_density

@@ -149,7 +149,7 @@ static void print_world(const run *r, const char *dt_rule)
     sl_info("Case %s", c->dir);
     sl_info("  fluid particles     %zu", pcs_fluid_total(s));
     sl_info("  boundary particles  %zu (%zu shapes, method %s)",
-            c->boundary.n - c->boundary.nimages, c->nshapes, c->prm.method->name);
+            pcs_boundary_total(s) - c->boundary.nimages, c->nshapes, c->prm.method->name);
     if (c->prm.periodic.axes) {
         char ax[8];
         dom_periodic_axes_text(c->prm.periodic.axes, ax, sizeof ax);
@@ -620,9 +620,21 @@ static void summary_parallel(const run *r, double wall)
         sl_info("  parallel: domain mode: each rank stores its own particles and their halo only "
                 "(particles stored per rank at the last search: min %zu, max %zu of %zu; this "
                 "rank's mean %.0f, capacity %zu); halo received per rank min %zu, max %zu (this "
-                "rank's mean %.0f); boundary particles replicated (%zu)",
+                "rank's mean %.0f)",
                 dc.stored_min, dc.stored_max, pcs_fluid_total(&r->s), dc.stored_mean, dc.cap,
-                dc.halo_min, dc.halo_max, dc.halo_mean, r->s.b->n);
+                dc.halo_min, dc.halo_max, dc.halo_mean);
+        sl_info("  parallel: boundary particles stored per rank (own and halo rows) min %zu, max "
+                "%zu of %zu (this rank's mean %.0f); distributed %ld times, %ld changed owner",
+                dc.bstored_min, dc.bstored_max, dc.nb_global, dc.bstored_mean, dc.bdistributions,
+                dc.bmigrated);
+        if (dc.overlap)
+            sl_info("  parallel: overlap: %.0f %% of the own rows (the smallest share of a rank, "
+                    "mean over searches) read no halo value and are computed while x* and "
+                    "p/rho^2 travel",
+                    100 * dc.inner_share);
+        else
+            sl_info("  parallel: no overlap (SLUICE_PARALLEL_OVERLAP=0, or EFF_DENSITY effects): "
+                    "the halo exchanges block");
         sl_info("  parallel: %ld rebalances (largest imbalance max/mean %.3f); %ld gathers of the "
                 "state on rank 0 for output and function objects, %.2f s; resident memory per "
                 "rank at the end %.1f-%.1f MB",
