@@ -716,6 +716,13 @@ static void relax(run *r)
             k->where.text, k->jitter, k->steps, r->s.dt, r->t);
     pcs_relax(&r->s, k->steps, k->jitter, r->quiet ? 0 : 50, &rs);
     case_initial_velocity(&r->c, r->s.f);
+    /* the run's phase timers and effect counts start after it (its own
+     * cost is the line below) */
+    memset(&r->s.time, 0, sizeof r->s.time);
+    for (size_t q = 0; q < r->c.effects.n; q++) {
+        r->c.effects.e[q].calls = 0;
+        r->c.effects.e[q].time = 0.0;
+    }
     sl_info("Relaxed: largest displacement per step %.3g r0 (first), %.3g r0 (last); rho_err avg "
             "%.3f%% max %.3f%%; %ld restarts from rest; %.2f s wall",
             rs.move_first, rs.move_last, 100 * rs.err_avg, 100 * rs.err_max, rs.restarts, rs.wall);
