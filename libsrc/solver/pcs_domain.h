@@ -96,9 +96,11 @@ const pcs_snapshot *pcd_full_snapshot(pcs_solver *s, const pcs_snapshot *mine);
 /* A snapshot of the whole state (a restart file read by every rank) cut
  * down to this rank's particles. */
 void pcd_localize_snapshot(const pcs_solver *s, pcs_snapshot *snap);
-/* The methods without wall density: the measured compression of every
- * row of the last density pass (NULL when not gathered). */
-const double *pcd_err_vol(const pcs_solver *s);
+/* The methods without wall density, after the pressure solve: the block
+ * sums of the measured compression (err_vol) of the last density pass in
+ * s->vol_block, every block on every rank (made as the density error's:
+ * no row travels); returns the largest (collective). */
+double pcd_vol_blocks(pcs_solver *s);
 
 /* For the End summary. */
 typedef struct pcd_counts {
