@@ -27,9 +27,10 @@
  * deep and every rank computes the boundary particles its rows see.
  *
  * Per PCISPH iteration: x* of the halo after the prediction, p/rho^2 and
- * rho after the density pass (and the boundary's p/rho^2), point-to-point
- * from the owners
- * (par_exchange_double); the density error's block sums in the serial
+ * rho after the density pass (and the boundary's p/rho^2, in the same
+ * message), point-to-point from the owners (par_exchange_start / wait:
+ * the passes compute the own rows whose lists hold no halo particle while
+ * the messages travel, then the others); the density error's block sums in the serial
  * order (the blocks of SL_REDUCE_BLOCK rows of the serial array, made
  * from every rank's whole blocks and the rows of the blocks it shares);
  * the largest compression by a max-reduction.
