@@ -253,6 +253,18 @@ static void block_sums(const double *err, size_t n, double *part)
     }
 }
 
+/* The block sums added in block order, one at a time (the same bits on
+ * every rank and in every mode: the loop is kept from reassociating). */
+static double sum_in_order(const double *part, size_t nb)
+{
+    double total = 0.0;
+    for (size_t b = 0; b < nb; b++) {
+        total += part[b];
+        __asm__("" : "+m"(total));
+    }
+    return total;
+}
+
 /* Offsets of a per-row array of `w` doubles per row (scratch in off). */
 static const size_t *scaled(const size_t *in, size_t w, size_t *off, int size)
 {
@@ -631,6 +643,7 @@ void pcs_free(pcs_solver *s)
     sl_free_aligned(s->active);
     sl_free_aligned(s->err);
     sl_free_aligned(s->err_block);
+    sl_free_aligned(s->vol_block);
     sl_free_aligned(s->err_vol);
     sl_free_aligned(s->ap_best);
     if (s->prm.method && s->prm.method->free) s->prm.method->free(s->bstate);
@@ -655,6 +668,11 @@ static void ensure_scratch(pcs_solver *s)
         s->block_cap = rows / SL_REDUCE_BLOCK + 1;
         sl_free_aligned(s->err_block);
         s->err_block = sl_alloc_aligned(s->block_cap * sizeof *s->err_block, "density error sums");
+        if (!s->prm.method->wall_density) {
+            sl_free_aligned(s->vol_block);
+            s->vol_block =
+                sl_alloc_aligned(s->block_cap * sizeof *s->vol_block, "density error sums");
+        }
     }
     if (s->err_cap < s->f->cap) {
         sl_free_aligned(s->err);
@@ -828,11 +846,6 @@ static double average_of(const pcs_solver *s, double sum)
     return sum * inv_n / s->prm.rho0;
 }
 
-static double average_error(const pcs_solver *s, const double *err)
-{
-    return average_of(s, sl_sum(err, pcs_fluid_total(s)));
-}
-
 /* Whether a prediction with largest error emax (and average from
  * s->err_sum) ends the iterations (after minIterations). */
 static int reached_eta(const pcs_solver *s, double emax)
@@ -843,7 +856,7 @@ static int reached_eta(const pcs_solver *s, double emax)
 }
 
 /* The statistics of the last prediction (err_max: emax). */
-static void solve_stats(const pcs_solver *s, pcs_stats *st, int k, double emax)
+static void solve_stats(pcs_solver *s, pcs_stats *st, int k, double emax)
 {
     const size_t n = pcs_fluid_total(s);
     const double rho0 = s->prm.rho0;
@@ -854,10 +867,17 @@ static void solve_stats(const pcs_solver *s, pcs_stats *st, int k, double emax)
     if (s->prm.method->wall_density) {
         st->vol_avg = st->err_avg;
         st->vol_max = st->err_max;
-    } else { /* domain mode: every rank's rows, gathered */
-        const double *ev = s->split.domain ? pcd_err_vol(s) : s->err_vol;
-        st->vol_avg = n ? average_error(s, ev) : 0.0;
-        st->vol_max = n ? sl_max(ev, n) / rho0 : 0.0;
+    } else { /* by blocks in the serial order, as the density error (domain mode: no row
+              * travels; the other modes hold every row) */
+        const size_t nb = (n + SL_REDUCE_BLOCK - 1) / SL_REDUCE_BLOCK;
+        double vmax;
+        if (s->split.domain) vmax = pcd_vol_blocks(s);
+        else {
+            block_sums(s->err_vol, n, s->vol_block);
+            vmax = sl_max(s->err_vol, n);
+        }
+        st->vol_avg = n ? average_of(s, sum_in_order(s->vol_block, nb)) : 0.0;
+        st->vol_max = n ? vmax / rho0 : 0.0;
     }
     st->nactive = s->split.domain ? s->split.nactive_all : s->nactive;
 }

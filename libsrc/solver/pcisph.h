@@ -151,6 +151,7 @@ struct pcs_solver {
     double err_sum;    /* their sum in block order */
     size_t block_cap;  /* entries of err_block */
     double *err_vol;   /* methods without wall density: the same with the wall's share */
+    double *vol_block; /* its sums by blocks of SL_REDUCE_BLOCK (the last prediction) */
     size_t err_cap;
     double *ap_best; /* pressure force of the best iteration (3 x cap) */
     pcs_timers time;

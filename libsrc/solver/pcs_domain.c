@@ -87,9 +87,6 @@ struct pcs_domain {
     uint64_t *tail;
     size_t tail_cap;
     pcs_snapshot full;
-    double *vol_all;
-    size_t vol_cap;
-    int vol_valid;
     int *pcnt, *pdis;
     pcd_counts c;
     double stored_sum, halo_sum;
@@ -629,7 +626,6 @@ static void domain_free(struct pcs_domain *d)
     sl_free_aligned(d->gbuf);
     free(d->tail);
     snap_free(&d->full);
-    sl_free_aligned(d->vol_all);
     free(d);
 }
 
@@ -946,7 +942,6 @@ void pcd_after_search(pcs_solver *s)
     sp->halo_rows = d->nrecv;
     sp->halo_sum += (double)d->nrecv;
     sp->halo_max = d->nrecv > sp->halo_max ? d->nrecv : sp->halo_max;
-    d->vol_valid = 0;
     s->time.comm += par_counters().seconds - c0;
 }
 
@@ -1060,14 +1055,13 @@ static int owner_of_row(const struct pcs_domain *d, int p, size_t g)
  * from the running sum they pass up (one double, point-to-point), so it
  * is summed in the serial order; then each block's sum is sent by the
  * rank holding its last row to every rank (N / 4096 doubles). */
-static void chain_block_sums(pcs_solver *s, struct pcs_domain *d)
+static void chain_block_sums(pcs_solver *s, struct pcs_domain *d, const double *rows, double *part)
 {
     const int p = s->split.size, me = s->split.rank;
     const size_t n = s->split.nglobal, B = SL_REDUCE_BLOCK;
     const size_t nb = (n + B - 1) / B;
     const size_t G0 = d->goff[me], G1 = d->goff[me + 1];
-    double *part = s->err_block;
-    const double *err = s->err + d->lo; /* row G0 */
+    const double *err = rows + d->lo; /* row G0 */
     if (G1 > G0) {
         const size_t bfirst = G0 / B, blast = (G1 - 1) / B;
         int sent = 0;
@@ -1096,35 +1090,45 @@ static void chain_block_sums(pcs_solver *s, struct pcs_domain *d)
 double pcd_after_density(pcs_solver *s, double emax)
 {
     struct pcs_domain *d = s->split.dd;
-    const int p = s->split.size, me = s->split.rank;
-    const size_t n = s->split.nglobal;
     const double t0 = omp_get_wtime();
-    chain_block_sums(s, d);
+    chain_block_sums(s, d, s->err, s->err_block);
     s->time.comm += omp_get_wtime() - t0;
     /* the halo's p/rho^2 (the pressure force) and density (the next
      * density pass's EFF_DENSITY effects), and the boundary's p/rho^2:
      * started, completed before the pressure force reads them */
     start_pressure(s, d);
     const double t1 = omp_get_wtime();
-    if (!s->prm.method->wall_density) { /* measured compression of every row (sl_sum) */
-        d->vol_all = grow(d->vol_all, &d->vol_cap, n + 1, sizeof *d->vol_all, "density error");
-        for (int r = 0; r < p; r++) {
-            d->pcnt[r] = as_int(d->goff[r + 1] - d->goff[r]);
-            d->pdis[r] = as_int(d->goff[r]);
-        }
-        par_allgatherv(s->err_vol + d->lo, d->pcnt[me], d->vol_all, d->pcnt, d->pdis);
-        d->vol_valid = 1;
-    }
     emax = par_max_double(emax); /* a maximum: exact in any order */
     s->time.comm += omp_get_wtime() - t1;
     if (!s->split.overlap) pcd_wait(s);
     return emax;
 }
 
-const double *pcd_err_vol(const pcs_solver *s)
+double pcd_vol_blocks(pcs_solver *s)
 {
-    const struct pcs_domain *d = s->split.dd;
-    return d && d->vol_valid ? d->vol_all : NULL;
+    struct pcs_domain *d = s->split.dd;
+    const int me = s->split.rank;
+    const size_t B = SL_REDUCE_BLOCK;
+    const size_t G0 = d->goff[me], G1 = d->goff[me + 1];
+    const double *ev = s->err_vol + d->lo; /* row G0 */
+    double *part = s->vol_block, vmax = -HUGE_VAL;
+    const double t0 = omp_get_wtime();
+    if (G1 > G0) /* this rank's whole blocks and the start of its last (as the pass sums err) */
+        for (size_t blk = G0 / B; blk <= (G1 - 1) / B; blk++) {
+            const size_t lo = blk * B > G0 ? blk * B : G0;
+            const size_t hi = (blk + 1) * B < G1 ? (blk + 1) * B : G1;
+            double sum = 0.0;
+            for (size_t g = lo; g < hi; g++) {
+                sum += ev[g - G0];
+                __asm__("" : "+m"(sum)); /* one at a time: the serial order */
+                vmax = ev[g - G0] > vmax ? ev[g - G0] : vmax;
+            }
+            part[blk] = sum;
+        }
+    chain_block_sums(s, d, s->err_vol, part);
+    vmax = par_max_double(vmax); /* a maximum: exact in any order */
+    s->time.comm += omp_get_wtime() - t0;
+    return vmax;
 }
 
 /* ---- the end of a step ---- */

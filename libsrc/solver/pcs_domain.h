@@ -27,9 +27,10 @@
  * deep and every rank computes the boundary particles its rows see.
  *
  * Per PCISPH iteration: x* of the halo after the prediction, p/rho^2 and
- * rho after the density pass (and the boundary's p/rho^2), point-to-point
- * from the owners
- * (par_exchange_double); the density error's block sums in the serial
+ * rho after the density pass (and the boundary's p/rho^2, in the same
+ * message), point-to-point from the owners (par_exchange_start / wait:
+ * the passes compute the own rows whose lists hold no halo particle while
+ * the messages travel, then the others); the density error's block sums in the serial
  * order (the blocks of SL_REDUCE_BLOCK rows of the serial array, made
  * from every rank's whole blocks and the rows of the blocks it shares);
  * the largest compression by a max-reduction.
@@ -96,9 +97,11 @@ const pcs_snapshot *pcd_full_snapshot(pcs_solver *s, const pcs_snapshot *mine);
 /* A snapshot of the whole state (a restart file read by every rank) cut
  * down to this rank's particles. */
 void pcd_localize_snapshot(const pcs_solver *s, pcs_snapshot *snap);
-/* The methods without wall density: the measured compression of every
- * row of the last density pass (NULL when not gathered). */
-const double *pcd_err_vol(const pcs_solver *s);
+/* The methods without wall density, after the pressure solve: the block
+ * sums of the measured compression (err_vol) of the last density pass in
+ * s->vol_block, every block on every rank (made as the density error's:
+ * no row travels); returns the largest (collective). */
+double pcd_vol_blocks(pcs_solver *s);
 
 /* For the End summary. */
 typedef struct pcd_counts {
