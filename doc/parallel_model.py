@@ -32,6 +32,11 @@ NBRS_DOMAIN = 16     # neighbour ranks of a rank (decomposeCase "ranks max": 12-
 SEARCH_HALO = 0.10   # share of a particle's step a halo particle costs (sort and lists)
 HALO_W = 40          # bytes per halo particle per iteration: x* (24), p/rho^2 and rho (16)
 FILL_W = 72          # bytes per halo particle per step: x, v, rho, p, id (9 doubles)
+KAPPA_H = (3.9, 14.0)  # own rows reading a halo particle (within h) = kappa_h (N/P)^(2/3):
+                     # decomposeCase "halo within h / own, domain", tutorials/damBreak: 17 % at
+                     # 2 ranks (3.9) .. 198 % at 64 (14.3); 191 k: 29 % at 8 (8.4), 91 % at 64
+                     # (13.1).  A run on 2 ranks computes 84 % of its own rows while the halo
+                     # travels (End summary, "overlap"): 16 % border, as the 17 % predicts.
 # ---- published: 100 Gb/s InfiniBand ----
 ALPHA = 1.5e-6       # s latency per message
 BW = 12.5e9          # bytes/s
@@ -84,7 +89,7 @@ def small_alltoall(p):
     """Alltoall of one int per rank (Bruck's algorithm for small messages)."""
     return math.log2(p) * ALPHA if p > 1 else 0.0
 
-def phase2_built(n, p, kappa):
+def phase2_built(n, p, kappa, kappa_h=None):
     """Domain mode as built (solver/pcs_domain.c): each rank computes its
     n/P own particles and sorts and searches its stored halo too; per
     iteration x* and then p/rho^2 and rho of the stored halo with its
@@ -92,13 +97,22 @@ def phase2_built(n, p, kappa):
     the block sums of the serial order (Allgatherv of N / 4096 doubles),
     one max-reduction; per step the migration and the halo fill (two
     Alltoalls of counts, the halo's 9 doubles each, an Allreduce of P
-    counts, an Allgather of P counts, the step's reductions)."""
+    counts, an Allgather of P counts, the step's reductions).  With
+    kappa_h (the overlap): the point-to-point messages of an iteration
+    travel while the own rows that read no halo particle (1 - kappa_h
+    (N/P)^(-1/3) of them) compute their density and pressure force; only
+    what the interior work does not cover is paid.  Static walls: the
+    boundary is distributed once (and at rebalancings), not per step."""
     nl = n / p
     halo = kappa * nl ** (2.0 / 3.0) if p > 1 else 0.0
     nbrs = min(p - 1, NBRS_DOMAIN)
     compute = nl * C + halo * C * SEARCH_HALO
     blocks = math.log2(p) * ALPHA + 8 * n / 4096 / BW if p > 1 else 0.0
-    per_iter = 2 * nbrs * ALPHA + HALO_W * halo / BW + ALPHA + blocks + allreduce(p)
+    p2p = 2 * nbrs * ALPHA + HALO_W * halo / BW if p > 1 else 0.0
+    if kappa_h is not None and p > 1:
+        inner = max(0.0, 1.0 - kappa_h * nl ** (-1.0 / 3.0))
+        p2p = max(0.0, p2p - inner * nl * C * F_SPLIT / ITER)
+    per_iter = p2p + ALPHA + blocks + allreduce(p)
     per_step = (2 * small_alltoall(p) + 2 * nbrs * ALPHA + FILL_W * halo / BW
                 + 2 * allreduce(p) + 4 * allreduce(p))
     return compute, ITER * per_iter + per_step
@@ -107,7 +121,7 @@ def table_built(title, n_of_p, ps):
     print(f"\n{title}: phase 2 as built (domain mode), kappa_stored "
           f"{KAPPA_STORED[0]}..{KAPPA_STORED[1]}")
     print(f"{'ranks':>6} {'N':>10} | {'s/step':>17} {'comm %':>7} {'efficiency':>12} |"
-          f" {'stored / own':>12}")
+          f" {'stored / own':>12} | {'overlap: comm %':>15} {'efficiency':>12}")
     for p in ps:
         n = n_of_p(p)
         ideal = n * C / p
@@ -115,9 +129,12 @@ def table_built(title, n_of_p, ps):
         t = [c + m for c, m in r]
         nl = n / p
         st = [k * nl ** (2.0 / 3.0) / nl if p > 1 else 0.0 for k in KAPPA_STORED]
+        ro = [phase2_built(n, p, k, kh) for k, kh in zip(KAPPA_STORED, KAPPA_H)]
+        to = [c + m for c, m in ro]
         print(f"{p:>6} {n:>10.3g} | {t[0]:>8.4g}-{t[1]:<8.4g} {100 * r[1][1] / t[1]:>6.1f}% "
               f"{100 * ideal / t[1]:>5.1f}-{100 * ideal / t[0]:<5.1f}% |"
-              f" {1 + st[0]:>5.2f}-{1 + st[1]:<5.2f}")
+              f" {1 + st[0]:>5.2f}-{1 + st[1]:<5.2f} | {100 * ro[1][1] / to[1]:>14.1f}% "
+              f"{100 * ideal / to[1]:>5.1f}-{100 * ideal / to[0]:<5.1f}%")
 
 def table(title, n_of_p, ps, ref_p):
     print(f"\n{title}")

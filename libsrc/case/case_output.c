@@ -113,7 +113,7 @@ static int write_boundary(const char *path, const pcs_solver *s, const vtk_optio
                           sl_err *err)
 {
     sl_boundary real;
-    const sl_boundary *b = s->b;
+    const sl_boundary *b = pcs_view_of(s).b; /* -parallel: gathered on rank 0 */
     if (b->nimages) {
         real = real_boundary(b);
         b = &real;

@@ -293,14 +293,16 @@ void par_alltoallv_double(const double *s, const int *scnt, const int *sdis, dou
 }
 
 #ifdef SL_HAVE_MPI
-static MPI_Request *reqs_; /* 2 per rank, for par_exchange_double */
+static MPI_Request *reqs_; /* 2 per rank, for par_exchange_start */
+static int nreq_;          /* in flight (0: none) */
 #endif
 
-void par_exchange_double(const double *s, const int *scnt, const int *sdis, double *r,
-                         const int *rcnt, const int *rdis)
+void par_exchange_start(const double *s, const int *scnt, const int *sdis, double *r,
+                        const int *rcnt, const int *rdis)
 {
 #ifdef SL_HAVE_MPI
     if (size_ > 1) {
+        if (nreq_) sl_fatal("par_exchange_start: an exchange is in flight (internal error)");
         if (!reqs_) {
             reqs_ = malloc(2 * (size_t)size_ * sizeof *reqs_);
             if (!reqs_) sl_fatal("out of memory");
@@ -317,7 +319,7 @@ void par_exchange_double(const double *s, const int *scnt, const int *sdis, doub
         for (int q = 0; q < size_; q++)
             if (q != rank_ && scnt[q] > 0)
                 MPI_Isend(s + sdis[q], scnt[q], MPI_DOUBLE, q, 17, MPI_COMM_WORLD, &reqs_[nr++]);
-        MPI_Waitall(nr, reqs_, MPI_STATUSES_IGNORE);
+        nreq_ = nr;
         count_.seconds += MPI_Wtime() - t0;
         count_.calls++;
         count_.messages += msgs;
@@ -326,6 +328,25 @@ void par_exchange_double(const double *s, const int *scnt, const int *sdis, doub
     }
 #endif
     (void)s, (void)scnt, (void)sdis, (void)r, (void)rcnt, (void)rdis;
+}
+
+void par_exchange_wait(void)
+{
+#ifdef SL_HAVE_MPI
+    if (nreq_) {
+        const double t0 = MPI_Wtime();
+        MPI_Waitall(nreq_, reqs_, MPI_STATUSES_IGNORE);
+        nreq_ = 0;
+        count_.seconds += MPI_Wtime() - t0;
+    }
+#endif
+}
+
+void par_exchange_double(const double *s, const int *scnt, const int *sdis, double *r,
+                         const int *rcnt, const int *rdis)
+{
+    par_exchange_start(s, scnt, sdis, r, rcnt, rdis);
+    par_exchange_wait();
 }
 
 void par_allgather_long(long v, long *all)

@@ -64,6 +64,13 @@ void par_alltoallv_double(const double *s, const int *scnt, const int *sdis, dou
  * par_alltoall_int of them first, when they change). */
 void par_exchange_double(const double *s, const int *scnt, const int *sdis, double *r,
                          const int *rcnt, const int *rdis);
+/* The same in two halves, to compute while the messages travel: the
+ * messages started (returns at once), then completed (a no-op when none
+ * is in flight); s and r must not be touched in between.  One exchange in
+ * flight at a time. */
+void par_exchange_start(const double *s, const int *scnt, const int *sdis, double *r,
+                        const int *rcnt, const int *rdis);
+void par_exchange_wait(void);
 /* One double to / from one rank (blocking; a chain of running sums). */
 void par_send_double(double v, int to);
 double par_recv_double(int from);

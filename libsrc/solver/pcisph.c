@@ -33,6 +33,21 @@ void pcs_params_default(pcs_params *p)
     p->epsilon = 1.0;
     p->method = &ihmsen2010_method;
     p->restitution = 0.0;
+    p->support = 2.0;
+}
+
+double pcs_mass_lattice(const pcs_params *p)
+{
+    const double r0 = p->r0;
+    krn_kernel k;
+    krn_init(&k, pcs_support(p));
+    const int reach = (int)ceil(p->support) + 1;
+    double sum = 0.0;
+    for (int i = -reach; i <= reach; i++)
+        for (int j = -reach; j <= reach; j++)
+            for (int l = -reach; l <= reach; l++)
+                sum += krn_w(&k, r0 * sqrt((double)(i * i + j * j + l * l)));
+    return p->rho0 / sum;
 }
 
 double pcs_delta(const krn_kernel *k, double r0, double mass, double rho0, double dt)
@@ -122,8 +137,10 @@ static inline void correct_density(const pcs_solver *s, const eff_view *v, size_
 /* Predicted density and pressure of the active boundary particles (eq. 13
  * and eq. 3), for the methods whose walls take part in the solve.  Called
  * inside the fluid's density pass's parallel region (its loop is shared
- * by the team, without a barrier of its own). */
-static void boundary_density(const pcs_solver *s)
+ * by the team, without a barrier of its own).  part: -1 all; with the
+ * domain mode's overlap 0 the set's particles that read no halo x*, 1 the
+ * others. */
+static void boundary_density(const pcs_solver *s, int part)
 {
     const sl_boundary *b = s->b;
     const krn_kernel k = s->k;
@@ -138,8 +155,9 @@ static void boundary_density(const pcs_solver *s)
     /* -parallel: this rank's share of the active ones (gathered after the
      * pass), or in halo mode the ones its rows see (pcs_parallel.h) */
     const int halo = s->split.halo;
-    const size_t q0 = halo ? 0 : s->split.act[s->split.rank];
-    const size_t q1 = halo ? s->split.nbset : s->split.act[s->split.rank + 1];
+    const size_t q0 = halo ? (part == 1 ? s->split.nbset_inner : 0) : s->split.act[s->split.rank];
+    const size_t q1 = halo ? (part == 0 ? s->split.nbset_inner : s->split.nbset)
+                           : s->split.act[s->split.rank + 1];
     const uint32_t *restrict set = halo ? s->split.bset : act;
     const int packed = s->split.size > 1 && !halo;
 #pragma omp for schedule(dynamic, 256) nowait
@@ -232,6 +250,18 @@ static void block_sums(const double *err, size_t n, double *part)
         }
         part[blk] = sum;
     }
+}
+
+/* The block sums added in block order, one at a time (the same bits on
+ * every rank and in every mode: the loop is kept from reassociating). */
+static double sum_in_order(const double *part, size_t nb)
+{
+    double total = 0.0;
+    for (size_t b = 0; b < nb; b++) {
+        total += part[b];
+        __asm__("" : "+m"(total));
+    }
+    return total;
 }
 
 /* Offsets of a per-row array of `w` doubles per row (scratch in off). */
@@ -400,6 +430,28 @@ static inline __attribute__((always_inline)) void pressure_one(const pass_ctx *c
     c->apz[i] = a[2];
 }
 
+/* The density error's sums over this rank's rows of blocks [b0, b1) of
+ * the serial order (rows [g0, g1) of it; own row i is row i + gshift),
+ * from s->err: each block summed one row at a time, as the serial pass
+ * sums its rows (the empty asm keeps the compiler from reassociating). */
+static void own_block_sums(pcs_solver *s, size_t b0, size_t b1, size_t g0, size_t g1)
+{
+    const ptrdiff_t gs = s->split.gshift;
+    const double *err = s->err;
+    double *part = s->err_block;
+#pragma omp parallel for schedule(static)
+    for (size_t blk = b0; blk < b1; blk++) {
+        const size_t bl = blk * SL_REDUCE_BLOCK, lo = bl > g0 ? bl : g0;
+        const size_t hi = bl + SL_REDUCE_BLOCK < g1 ? bl + SL_REDUCE_BLOCK : g1;
+        double sum = 0.0;
+        for (size_t gi = lo; gi < hi; gi++) {
+            sum += err[(size_t)((ptrdiff_t)gi - gs)];
+            __asm__("" : "+m"(sum));
+        }
+        part[blk] = sum;
+    }
+}
+
 /* The three passes of method M, each with its own parallel loop so that
  * the method's terms are inlined into it (the parallel region is outlined
  * per function, before inlining):
@@ -412,6 +464,34 @@ static inline __attribute__((always_inline)) void pressure_one(const pass_ctx *c
  *   M_force    the pressure force (eq. 6);
  *   M_current  the density at x(t), for output (no pressure update). */
 #define PCS_METHOD_PASSES(M)                                                                      \
+    static double M##_predict_overlap(pcs_solver *s, const pass_ctx *c, size_t b0, size_t b1,     \
+                                      size_t g0, size_t g1)                                       \
+    {                                                                                             \
+        const uint32_t *ord = s->split.order;                                                     \
+        const size_t nin = s->split.ninner, nall = s->split.norder;                               \
+        double emax = 0.0;                                                                        \
+        _Pragma("omp parallel reduction(max : emax)")                                             \
+        {                                                                                         \
+            _Pragma("omp for schedule(dynamic, 256) nowait") for (size_t q = 0; q < nin; q++)     \
+            {                                                                                     \
+                const double e = predict_one(c, ord[q], M##_wall_density, M##_density);           \
+                emax = e > emax ? e : emax;                                                       \
+            }                                                                                     \
+            if (M##_wall_density) boundary_density(s, 0);                                         \
+        }                                                                                         \
+        pcd_wait(s); /* the halo's x* */                                                          \
+        _Pragma("omp parallel reduction(max : emax)")                                             \
+        {                                                                                         \
+            _Pragma("omp for schedule(dynamic, 256) nowait") for (size_t q = nin; q < nall; q++)  \
+            {                                                                                     \
+                const double e = predict_one(c, ord[q], M##_wall_density, M##_density);           \
+                emax = e > emax ? e : emax;                                                       \
+            }                                                                                     \
+            if (M##_wall_density) boundary_density(s, 1);                                         \
+        }                                                                                         \
+        own_block_sums(s, b0, b1, g0, g1);                                                        \
+        return emax;                                                                              \
+    }                                                                                             \
     static double M##_predict(pcs_solver *s)                                                      \
     {                                                                                             \
         const sl_fluid *f = s->f;                                                                 \
@@ -425,23 +505,26 @@ static inline __attribute__((always_inline)) void pressure_one(const pass_ctx *c
         const size_t b1 = g1 > g0 ? (g1 + SL_REDUCE_BLOCK - 1) / SL_REDUCE_BLOCK : b0;            \
         double *restrict part = s->err_block;                                                     \
         double emax = 0.0;                                                                        \
-        _Pragma("omp parallel reduction(max : emax)")                                             \
-        {                                                                                         \
-            _Pragma("omp for schedule(dynamic, 1) nowait") for (size_t blk = b0; blk < b1; blk++) \
+        if (s->split.overlap) /* the rows that read no halo x* while it travels */                \
+            emax = M##_predict_overlap(s, &c, b0, b1, g0, g1);                                    \
+        else _Pragma("omp parallel reduction(max : emax)")                                        \
             {                                                                                     \
-                const size_t bl = blk * SL_REDUCE_BLOCK, lo = bl > g0 ? bl : g0;                  \
-                const size_t hi = bl + SL_REDUCE_BLOCK < g1 ? bl + SL_REDUCE_BLOCK : g1;          \
-                double sum = 0.0;                                                                 \
-                for (size_t gi = lo; gi < hi; gi++) {                                             \
-                    const size_t i = (size_t)((ptrdiff_t)gi - gs);                                \
-                    const double e = predict_one(&c, i, M##_wall_density, M##_density);           \
-                    emax = e > emax ? e : emax;                                                   \
-                    sum += e;                                                                     \
+                _Pragma("omp for schedule(dynamic, 1) nowait") for (size_t blk = b0; blk < b1;    \
+                                                                    blk++)                        \
+                {                                                                                 \
+                    const size_t bl = blk * SL_REDUCE_BLOCK, lo = bl > g0 ? bl : g0;              \
+                    const size_t hi = bl + SL_REDUCE_BLOCK < g1 ? bl + SL_REDUCE_BLOCK : g1;      \
+                    double sum = 0.0;                                                             \
+                    for (size_t gi = lo; gi < hi; gi++) {                                         \
+                        const size_t i = (size_t)((ptrdiff_t)gi - gs);                            \
+                        const double e = predict_one(&c, i, M##_wall_density, M##_density);       \
+                        emax = e > emax ? e : emax;                                               \
+                        sum += e;                                                                 \
+                    }                                                                             \
+                    part[blk] = sum;                                                              \
                 }                                                                                 \
-                part[blk] = sum;                                                                  \
+                if (M##_wall_density) boundary_density(s, -1);                                    \
             }                                                                                     \
-            if (M##_wall_density) boundary_density(s);                                            \
-        }                                                                                         \
         if (s->split.size > 1)                                                                    \
             emax = s->split.halo ? pcx_after_density(s, emax)                                     \
                                  : gather_predicted(s, M##_wall_density, emax);                   \
@@ -455,6 +538,17 @@ static inline __attribute__((always_inline)) void pressure_one(const pass_ctx *c
         const sl_fluid *f = s->f;                                                                 \
         const pass_ctx c = pass_begin(s, f->xs, f->ys, f->zs);                                    \
         const size_t i0 = s->split.row[s->split.rank], i1 = s->split.row[s->split.rank + 1];      \
+        if (s->split.overlap) { /* the rows that read no halo p/rho^2 while it travels */         \
+            const uint32_t *ord = s->split.order;                                                 \
+            const size_t nin = s->split.ninner, nall = s->split.norder;                           \
+            _Pragma("omp parallel for schedule(dynamic, 1024)") for (size_t q = 0; q < nin; q++)  \
+                pressure_one(&c, ord[q], M##_pressure);                                           \
+            pcd_wait(s);                                                                          \
+            _Pragma("omp parallel for schedule(dynamic, 1024)") for (size_t q = nin; q < nall;    \
+                                                                     q++)                         \
+                pressure_one(&c, ord[q], M##_pressure);                                           \
+            return;                                                                               \
+        }                                                                                         \
         _Pragma("omp parallel for schedule(dynamic, 1024)") for (size_t i = i0; i < i1; i++)      \
             pressure_one(&c, i, M##_pressure);                                                    \
         if (s->split.size > 1 && !s->split.halo) gather_force(s);                                 \
@@ -499,8 +593,8 @@ void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b, c
 {
     memset(s, 0, sizeof *s);
     s->prm = *p;
-    s->h = pcs_support(p->r0);
-    s->mass = pcs_mass(p->rho0, p->r0);
+    s->h = pcs_support(p);
+    s->mass = pcs_mass(p);
     s->eta_abs = p->eta * p->rho0;
     s->f = f;
     s->b = b;
@@ -548,6 +642,7 @@ void pcs_free(pcs_solver *s)
     sl_free_aligned(s->active);
     sl_free_aligned(s->err);
     sl_free_aligned(s->err_block);
+    sl_free_aligned(s->vol_block);
     sl_free_aligned(s->err_vol);
     sl_free_aligned(s->ap_best);
     if (s->prm.method && s->prm.method->free) s->prm.method->free(s->bstate);
@@ -556,6 +651,7 @@ void pcs_free(pcs_solver *s)
     pcx_free(s);
     pcd_free(s);
     free(s->split.owner);
+    sl_free_aligned(s->split.order);
     free(s->split.row);
     free(s->split.act);
     sl_free_aligned(s->split.bbuf);
@@ -571,6 +667,11 @@ static void ensure_scratch(pcs_solver *s)
         s->block_cap = rows / SL_REDUCE_BLOCK + 1;
         sl_free_aligned(s->err_block);
         s->err_block = sl_alloc_aligned(s->block_cap * sizeof *s->err_block, "density error sums");
+        if (!s->prm.method->wall_density) {
+            sl_free_aligned(s->vol_block);
+            s->vol_block =
+                sl_alloc_aligned(s->block_cap * sizeof *s->vol_block, "density error sums");
+        }
     }
     if (s->err_cap < s->f->cap) {
         sl_free_aligned(s->err);
@@ -744,11 +845,6 @@ static double average_of(const pcs_solver *s, double sum)
     return sum * inv_n / s->prm.rho0;
 }
 
-static double average_error(const pcs_solver *s, const double *err)
-{
-    return average_of(s, sl_sum(err, pcs_fluid_total(s)));
-}
-
 /* Whether a prediction with largest error emax (and average from
  * s->err_sum) ends the iterations (after minIterations). */
 static int reached_eta(const pcs_solver *s, double emax)
@@ -759,7 +855,7 @@ static int reached_eta(const pcs_solver *s, double emax)
 }
 
 /* The statistics of the last prediction (err_max: emax). */
-static void solve_stats(const pcs_solver *s, pcs_stats *st, int k, double emax)
+static void solve_stats(pcs_solver *s, pcs_stats *st, int k, double emax)
 {
     const size_t n = pcs_fluid_total(s);
     const double rho0 = s->prm.rho0;
@@ -770,10 +866,17 @@ static void solve_stats(const pcs_solver *s, pcs_stats *st, int k, double emax)
     if (s->prm.method->wall_density) {
         st->vol_avg = st->err_avg;
         st->vol_max = st->err_max;
-    } else { /* domain mode: every rank's rows, gathered */
-        const double *ev = s->split.domain ? pcd_err_vol(s) : s->err_vol;
-        st->vol_avg = n ? average_error(s, ev) : 0.0;
-        st->vol_max = n ? sl_max(ev, n) / rho0 : 0.0;
+    } else { /* by blocks in the serial order, as the density error (domain mode: no row
+              * travels; the other modes hold every row) */
+        const size_t nb = (n + SL_REDUCE_BLOCK - 1) / SL_REDUCE_BLOCK;
+        double vmax;
+        if (s->split.domain) vmax = pcd_vol_blocks(s);
+        else {
+            block_sums(s->err_vol, n, s->vol_block);
+            vmax = sl_max(s->err_vol, n);
+        }
+        st->vol_avg = n ? average_of(s, sum_in_order(s->vol_block, nb)) : 0.0;
+        st->vol_max = n ? vmax / rho0 : 0.0;
     }
     st->nactive = s->split.domain ? s->split.nactive_all : s->nactive;
 }
@@ -816,6 +919,7 @@ static void pressure_solve(pcs_solver *s, pcs_stats *st)
         k++;
         if (k >= s->prm.max_iter || (k >= s->prm.min_iter && reached_eta(s, emax))) break;
     }
+    pcd_wait(s); /* domain mode: what the guard left in flight */
     solve_stats(s, st, k, emax);
 }
 
@@ -871,6 +975,17 @@ void pcs_step(pcs_solver *s, pcs_stats *st)
     s->t += s->dt;
 }
 
+void pcs_step_in_place(pcs_solver *s, pcs_stats *st)
+{
+    memset(st, 0, sizeof *st);
+    ensure_scratch(s);
+    PHASE(s, search, pcs_find_neighbours(s));
+    PHASE(s, forces, compute_forces(s));
+    pressure_solve(s, st);
+    PHASE(s, integrate, integrate(s, st));
+    dom_after_integrate(&s->halo, s->f);
+}
+
 void pcs_post_step(pcs_solver *s, double t, double dt)
 {
     const size_t n0 = s->f->n;
@@ -884,8 +999,9 @@ pcs_view pcs_view_of(const pcs_solver *s)
     /* domain mode: rank 0 shows the state gathered (pcs_gather) */
     const sl_fluid *mf = pcd_mirror(s);
     const nbr_list *mbf = pcd_mirror_bf(s);
+    const sl_boundary *mb = pcd_mirror_boundary(s);
     return (pcs_view){.f = mf ? mf : s->f,
-                      .b = s->b,
+                      .b = mb ? mb : s->b,
                       .grid = mf ? pcd_mirror_grid(s) : &s->grid,
                       .bf = mbf ? mbf : &s->bf,
                       .k = s->k,
@@ -910,6 +1026,11 @@ void pcs_compute_density(pcs_solver *s)
 }
 
 size_t pcs_fluid_total(const pcs_solver *s) { return s->split.domain ? s->split.nglobal : s->f->n; }
+
+size_t pcs_boundary_total(const pcs_solver *s)
+{
+    return s->split.domain ? s->split.nbglobal : s->b->n;
+}
 
 void pcs_gather(pcs_solver *s)
 {

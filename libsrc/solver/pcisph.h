@@ -32,8 +32,9 @@
 #include "particles/particles.h"
 
 typedef struct pcs_params {
-    double rho0; /* rest density */
-    double r0;   /* particle spacing; h = 2 r0 */
+    double rho0;    /* rest density */
+    double r0;      /* particle spacing */
+    double support; /* the kernel's support radius over r0 (kernelSupport; the paper's 2) */
     double gravity[3];
     double eta; /* tolerated density error, fraction of rho0 (0.01 = 1 %) */
     int min_iter, max_iter;
@@ -50,10 +51,24 @@ typedef struct pcs_params {
  * rho0 and r0, which a case must give, are 0). */
 void pcs_params_default(pcs_params *p);
 
-/* The support radius and the particle mass of a case: h = 2 r0 and
- * m = rho0 r0^3 (a fluid particle fills its cube of the lattice). */
-static inline double pcs_support(double r0) { return 2.0 * r0; }
-static inline double pcs_mass(double rho0, double r0) { return rho0 * r0 * r0 * r0; }
+/* The support radius and the particle mass of a case: h = support r0
+ * (2 r0 in the paper, Sec. 3.2) and m = rho0 r0^3 (a fluid particle fills
+ * its cube of the lattice; there the lattice's summation density is
+ * 0.99997 rho0).  A wider support's kernel sum over the cubic lattice is
+ * up to 0.2 % above 1 / r0^3 (h = 3 r0: 1.0018), which a closed periodic
+ * box could never relieve: there m = rho0 over that sum, so that the
+ * lattice is at rest density. */
+static inline double pcs_support(const pcs_params *p) { return p->support * p->r0; }
+double pcs_mass_lattice(const pcs_params *p);
+/* r0^3 first, then rho0: the solver's order before kernelSupport, kept to
+ * the last bit (volatile: -fassociative-math could reorder the product,
+ * and a chaotic run follows the last bit of the mass) */
+static inline double pcs_mass(const pcs_params *p)
+{
+    if (p->support != 2.0) return pcs_mass_lattice(p);
+    volatile double r3 = p->r0 * p->r0 * p->r0;
+    return p->rho0 * r3;
+}
 
 /* What one step did (logged every step). Errors are fractions of rho0. */
 typedef struct pcs_stats {
@@ -109,8 +124,16 @@ typedef struct pcs_split {
      * stores its own particles and their halo only */
     int domain;
     struct pcs_domain *dd;
-    ptrdiff_t gshift;   /* own row i is row i + gshift of the serial order */
-    size_t nglobal;     /* fluid particles of all ranks */
+    ptrdiff_t gshift; /* own row i is row i + gshift of the serial order */
+    size_t nglobal;   /* fluid particles of all ranks */
+    size_t nbglobal;  /* boundary particles of all ranks (each rank stores some) */
+    /* domain mode's overlap (SLUICE_PARALLEL_OVERLAP): the own rows whose
+     * lists hold no halo particle, order[0..ninner), computed while the
+     * halo's values travel, then the others, order[ninner..norder); the
+     * boundary set likewise, bset[0..nbset_inner) first */
+    int overlap;
+    uint32_t *order;
+    size_t ninner, norder, order_cap, nbset_inner;
     size_t nactive_all; /* active boundary particles of all ranks */
 } pcs_split;
 
@@ -137,6 +160,7 @@ struct pcs_solver {
     double err_sum;    /* their sum in block order */
     size_t block_cap;  /* entries of err_block */
     double *err_vol;   /* methods without wall density: the same with the wall's share */
+    double *vol_block; /* its sums by blocks of SL_REDUCE_BLOCK (the last prediction) */
     size_t err_cap;
     double *ap_best; /* pressure force of the best iteration (3 x cap) */
     pcs_timers time;
@@ -184,6 +208,9 @@ void pcs_set_dt(pcs_solver *s, double dt);
 void pcs_place_world(pcs_solver *s, double t);
 /* Advance by s->dt from time s->t (s->t is advanced too). */
 void pcs_step(pcs_solver *s, pcs_stats *st);
+/* pcs_step with the world held where pcs_place_world put it (no moving
+ * body moves) and s->t kept: the pseudo-time step of solver/pcs_relax.h. */
+void pcs_step_in_place(pcs_solver *s, pcs_stats *st);
 /* After a step from t to t + dt was accepted: the post-step effects
  * (emitters). */
 void pcs_post_step(pcs_solver *s, double t, double dt);
@@ -202,6 +229,9 @@ void pcs_compute_density(pcs_solver *s);
 /* The fluid particles of the case (all ranks'; s->f->n is this rank's in
  * -parallel's domain mode). */
 size_t pcs_fluid_total(const pcs_solver *s);
+/* The boundary particles of the case (images included; s->b->n is those
+ * this rank stores in -parallel's domain mode). */
+size_t pcs_boundary_total(const pcs_solver *s);
 /* -parallel's domain mode (collective; nothing otherwise): the state of
  * every rank gathered on rank 0 in the serial order, where pcs_view_of
  * shows it to function objects and output (done by pcs_compute_density

@@ -45,12 +45,29 @@ struct pcs_domain {
     size_t nown, nsorted, lo, hi;
     size_t *goff; /* rank r's own rows are rows [goff[r], goff[r+1]) of the serial order */
     size_t *boff; /* the blocks whose last row rank r holds: [boff[r], boff[r+1]) */
-    /* boundary particles: the search at which this rank last computed
-     * them, by creation index (output takes the latest), marks of the
-     * boundary set */
-    long *bstamp, *bkey;
-    uint32_t *bmark, bst;
-    double *bval;
+    /* boundary particles by cell: a rank stores those of its own rows and
+     * of its halo rows.  Its own ones (those in the own rows at the last
+     * distribution; a partition of all nb_global) by creation index,
+     * sorted: walls that move carry them out of the rows, and the next
+     * distribution sends them to their new owner with their last density
+     * and pressure (their owner computed them: the own cells' lists are
+     * complete), so the owner's values are the serial ones. */
+    size_t nb_global, nb_own;
+    uint32_t *bown;
+    size_t bown_cap;
+    int bmoving; /* the walls move (a movingBoundary effect): distributed every step */
+    int blists;  /* the boundary -> fluid lists describe the stored set */
+    int *brow, *bpos;
+    size_t brow_cap;
+    uint32_t *bmark, bst; /* marks of the boundary set */
+    size_t bmark_cap;
+    double bstored_sum, inner_sum;
+    long bdistributions, bmigrated;
+    /* the iteration's exchanges: buffers, and which one is in flight (0
+     * none, 1 x*, 2 p/rho^2 and rho) */
+    double *isbuf, *irbuf;
+    size_t isbuf_cap, irbuf_cap;
+    int inflight, with_b;
     /* one-cell halo: boundary p/rho^2 from the owner of its cell */
     int bsend_own; /* the boundary set is the own cells' active ones */
     int *bscnt, *bsdis, *brcnt, *brdis;
@@ -58,18 +75,18 @@ struct pcs_domain {
     size_t bsend_cap, brecv_cap, nbsend, nbrecv;
     /* rank 0: the gathered state */
     sl_fluid mirror;
+    sl_boundary mbound;
     nbr_grid mgrid;
     nbr_list mbf;
-    uint32_t *mfstart;
+    uint32_t *mfstart, *mbstart, *bmap;
+    uint64_t *bkeys;
+    size_t bkeys_cap;
     int have_mirror, fresh;
     double *gbuf;
     size_t gbuf_cap;
     uint64_t *tail;
     size_t tail_cap;
     pcs_snapshot full;
-    double *vol_all;
-    size_t vol_cap;
-    int vol_valid;
     int *pcnt, *pdis;
     pcd_counts c;
     double stored_sum, halo_sum;
@@ -145,6 +162,81 @@ static size_t scale(const int *cnt, int w, int *wc, int *wd, int p)
 
 static int *ints(int n) { return sl_calloc((size_t)n, sizeof(int), "rank counts"); }
 
+/* ---- boundary particles: fields, packing ---- */
+
+/* A boundary particle's fields (particles.h); what travels with one that
+ * migrates or joins a halo: all of them, its body and its creation index. */
+#define BFIELDS 20
+#define BREC    (BFIELDS + 2)
+
+static void bfields(const sl_boundary *b, double *a[BFIELDS])
+{
+    double *list[BFIELDS] = {b->x,          b->y,   b->z,  b->nx,  b->ny,  b->nz, b->mass,
+                             b->rho_static, b->rho, b->p,  b->pt,  b->vx,  b->vy, b->vz,
+                             b->x0,         b->y0,  b->z0, b->nx0, b->ny0, b->nz0};
+    memcpy(a, list, sizeof list);
+}
+
+static void bpack(const sl_boundary *b, size_t i, double *o)
+{
+    double *a[BFIELDS];
+    bfields(b, a);
+    for (int k = 0; k < BFIELDS; k++) o[k] = a[k][i];
+    o[BFIELDS] = (double)b->body[i];
+    o[BFIELDS + 1] = (double)b->id[i];
+}
+
+static void bunpack(sl_boundary *b, size_t i, const double *o)
+{
+    double *a[BFIELDS];
+    bfields(b, a);
+    for (int k = 0; k < BFIELDS; k++) a[k][i] = o[k];
+    b->body[i] = (uint32_t)o[BFIELDS];
+    b->id[i] = (uint32_t)o[BFIELDS + 1];
+}
+
+static void bmove_to(sl_boundary *b, size_t to, size_t from)
+{
+    if (to == from) return;
+    double *a[BFIELDS];
+    bfields(b, a);
+    for (int k = 0; k < BFIELDS; k++) a[k][to] = a[k][from];
+    b->body[to] = b->body[from];
+    b->id[to] = b->id[from];
+}
+
+/* Room for n boundary particles (the arrays keep their first b->n). */
+static void breserve(sl_boundary *b, size_t n)
+{
+    if (n > b->cap) prt_boundary_reserve(b, n + n / 4 + 64);
+}
+
+/* The boundary's arrays cut down to room for `want` particles (they were
+ * sized for the whole case when it was read). */
+static void bshrink(sl_boundary *b, size_t want)
+{
+    if (want >= b->cap) return;
+    sl_boundary g;
+    prt_boundary_init(&g);
+    prt_boundary_reserve(&g, want);
+    double *from[BFIELDS], *to[BFIELDS];
+    bfields(b, from);
+    bfields(&g, to);
+    const size_t n = b->n;
+    for (int k = 0; k < BFIELDS; k++) memcpy(to[k], from[k], n * sizeof *to[k]);
+    memcpy(g.body, b->body, n * sizeof *g.body);
+    memcpy(g.id, b->id, n * sizeof *g.id);
+    g.n = n;
+    prt_boundary_free(b);
+    *b = g;
+}
+
+static int cmp_u32(const void *a, const void *b)
+{
+    const uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
 /* ---- cuts ---- */
 
 /* The ranks whose halo holds each row: the rows within `depth` cells in
@@ -207,6 +299,144 @@ static double set_cuts(struct pcs_domain *d, const long *cnt, int p)
     }
     build_need(d, p);
     return total > 0 ? (double)big * p / (double)total : 1.0;
+}
+
+/* ---- boundary particles by cell ---- */
+
+/* The first cell of rank r's rows (cells are numbered row by row). */
+static size_t first_cell(const struct pcs_domain *d, int r) { return d->cut[r] * d->nx; }
+
+/* Whether boundary particle `id` is one of this rank's own. */
+static int own_boundary(const struct pcs_domain *d, uint32_t id)
+{
+    return d->nb_own && bsearch(&id, d->bown, d->nb_own, sizeof *d->bown, cmp_u32) != NULL;
+}
+
+/* After a sort of the stored boundary: the own ones (those of the own
+ * cells) by creation index. */
+static void own_boundary_list(const pcs_solver *s, struct pcs_domain *d)
+{
+    const int me = s->split.rank;
+    const uint32_t *bs = s->grid.bstart;
+    const size_t j0 = bs[first_cell(d, me)], j1 = bs[first_cell(d, me + 1)];
+    d->nb_own = j1 - j0;
+    d->bown = grow(d->bown, &d->bown_cap, d->nb_own + 1, sizeof *d->bown, "own boundary");
+    for (size_t j = j0; j < j1; j++) d->bown[j - j0] = s->b->id[j];
+    qsort(d->bown, d->nb_own, sizeof *d->bown, cmp_u32);
+}
+
+/* Whether rank me stores the boundary particles of row k: its own rows
+ * and its halo rows. */
+static int stores_row(const struct pcs_domain *d, size_t k, int me)
+{
+    if (d->owner[k] == me) return 1;
+    for (uint32_t q = d->nstart[k]; q < d->nstart[k + 1]; q++)
+        if ((int)d->nrank[q] == me) return 1;
+    return 0;
+}
+
+/* At set-up every rank holds every boundary particle, sorted (for their
+ * masses): it keeps those of its own and halo rows, in order, and its
+ * arrays shrink to them. */
+static void keep_boundary_rows(pcs_solver *s, struct pcs_domain *d)
+{
+    sl_boundary *b = s->b;
+    nbr_grid *g = &s->grid;
+    const int me = s->split.rank;
+    d->nb_global = b->n;
+    size_t j = 0;
+    for (size_t i = 0; i < b->n; i++)
+        if (stores_row(d, row_of(s, d, b->x[i], b->y[i], b->z[i]), me)) bmove_to(b, j++, i);
+    b->n = j;
+    bshrink(b, j + j / 4 + 256);
+    sl_free_aligned(g->bcell), sl_free_aligned(g->bperm); /* sized for them all */
+    g->bcell = g->bperm = NULL;
+    g->bperm_cap = 0;
+    nbr_sort_boundary(g, b); /* the order kept; bstart of the stored ones */
+    own_boundary_list(s, d);
+}
+
+/* Counts to and from every rank (an Alltoall), their displacements and
+ * totals. */
+static void count_exchange(int p, const int *scnt, int *sdis, int *rcnt, int *rdis, size_t *ns,
+                           size_t *nr)
+{
+    par_alltoall_int(scnt, rcnt);
+    *ns = *nr = 0;
+    for (int q = 0; q < p; q++) {
+        sdis[q] = as_int(*ns);
+        *ns += (size_t)scnt[q];
+        rdis[q] = as_int(*nr);
+        *nr += (size_t)rcnt[q];
+    }
+}
+
+/* The boundary particles to the ranks that store them now (the walls
+ * moved, or the cuts did): the own ones whose row another rank owns go
+ * there with all their fields, the halo copies are dropped, then every
+ * rank sends its own ones in the rows of another rank's halo to it
+ * (BREC doubles each); the stored set is sorted again. */
+static void distribute_boundary(pcs_solver *s, struct pcs_domain *d)
+{
+    sl_boundary *b = s->b;
+    const int p = s->split.size, me = s->split.rank;
+    const size_t n = b->n;
+    size_t ns, nr;
+    d->brow = grow(d->brow, &d->brow_cap, n + 1, sizeof *d->brow, "boundary rows");
+    int *dest = d->brow;
+    memset(d->scnt, 0, (size_t)p * sizeof *d->scnt);
+    for (size_t i = 0; i < n; i++) {
+        if (!own_boundary(d, b->id[i])) { /* a halo copy */
+            dest[i] = -1;
+            continue;
+        }
+        dest[i] = d->owner[row_of(s, d, b->x[i], b->y[i], b->z[i])];
+        if (dest[i] != me) d->scnt[dest[i]]++;
+    }
+    count_exchange(p, d->scnt, d->sdis, d->rcnt, d->rdis, &ns, &nr);
+    d->bmigrated += (long)ns;
+    d->sbuf = grow(d->sbuf, &d->sbuf_cap, BREC * ns + 1, sizeof *d->sbuf, "migration buffer");
+    d->rbuf = grow(d->rbuf, &d->rbuf_cap, BREC * nr + 1, sizeof *d->rbuf, "migration buffer");
+    int *pos = d->bpos;
+    memcpy(pos, d->sdis, (size_t)p * sizeof *pos);
+    size_t j = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (dest[i] == me) bmove_to(b, j++, i);
+        else if (dest[i] >= 0) bpack(b, i, d->sbuf + BREC * (size_t)pos[dest[i]]++);
+    }
+    scale(d->scnt, BREC, d->ws, d->wsd, p);
+    scale(d->rcnt, BREC, d->wr, d->wrd, p);
+    par_exchange_double(d->sbuf, d->ws, d->wsd, d->rbuf, d->wr, d->wrd);
+    b->n = j;
+    breserve(b, j + nr);
+    for (size_t k = 0; k < nr; k++) bunpack(b, j + k, d->rbuf + BREC * k);
+    b->n = j + nr;
+    /* the halo: own ones in the rows of another rank's halo */
+    const size_t m = b->n;
+    d->brow = grow(d->brow, &d->brow_cap, m + 1, sizeof *d->brow, "boundary rows");
+    int *row = d->brow;
+    memset(d->scnt, 0, (size_t)p * sizeof *d->scnt);
+    for (size_t i = 0; i < m; i++) {
+        row[i] = (int)row_of(s, d, b->x[i], b->y[i], b->z[i]);
+        for (uint32_t q = d->nstart[row[i]]; q < d->nstart[row[i] + 1]; q++) d->scnt[d->nrank[q]]++;
+    }
+    count_exchange(p, d->scnt, d->sdis, d->rcnt, d->rdis, &ns, &nr);
+    d->sbuf = grow(d->sbuf, &d->sbuf_cap, BREC * ns + 1, sizeof *d->sbuf, "halo buffer");
+    d->rbuf = grow(d->rbuf, &d->rbuf_cap, BREC * nr + 1, sizeof *d->rbuf, "halo buffer");
+    memcpy(pos, d->sdis, (size_t)p * sizeof *pos);
+    for (size_t i = 0; i < m; i++)
+        for (uint32_t q = d->nstart[row[i]]; q < d->nstart[row[i] + 1]; q++)
+            bpack(b, i, d->sbuf + BREC * (size_t)pos[d->nrank[q]]++);
+    scale(d->scnt, BREC, d->ws, d->wsd, p);
+    scale(d->rcnt, BREC, d->wr, d->wrd, p);
+    par_exchange_double(d->sbuf, d->ws, d->wsd, d->rbuf, d->wr, d->wrd);
+    breserve(b, m + nr);
+    for (size_t k = 0; k < nr; k++) bunpack(b, m + k, d->rbuf + BREC * k);
+    b->n = m + nr;
+    nbr_sort_boundary(&s->grid, b);
+    own_boundary_list(s, d);
+    d->blists = 0;
+    d->bdistributions++;
 }
 
 int pcd_usable(const pcs_solver *s)
@@ -292,8 +522,10 @@ static struct pcs_domain *domain_new(const nbr_grid *g, int p, int depth)
     d->ws = ints(p), d->wsd = ints(p), d->wr = ints(p), d->wrd = ints(p);
     d->pcnt = ints(p), d->pdis = ints(p);
     d->bscnt = ints(p), d->bsdis = ints(p), d->brcnt = ints(p), d->brdis = ints(p);
+    d->bpos = ints(p);
     d->bsend_own = depth < 2 * g->reach;
     prt_fluid_init(&d->mirror);
+    prt_boundary_init(&d->mbound);
     nbr_list_init(&d->mbf);
     snap_init(&d->full);
     return d;
@@ -301,13 +533,15 @@ static struct pcs_domain *domain_new(const nbr_grid *g, int p, int depth)
 
 static void domain_free(struct pcs_domain *d);
 
-void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t *halo)
+void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t *halo,
+                   size_t *bstored)
 {
     struct pcs_domain *d = domain_new(&s->grid, p, halo_depth(s));
     const sl_fluid *f = s->f;
+    const sl_boundary *b = s->b;
     for (size_t i = 0; i < f->n; i++) d->rowcount[row_of(s, d, f->x[i], f->y[i], f->z[i])]++;
     set_cuts(d, d->rowcount, p);
-    for (int r = 0; r < p; r++) stored[r] = halo[r] = 0;
+    for (int r = 0; r < p; r++) stored[r] = halo[r] = bstored[r] = 0;
     for (size_t i = 0; i < f->n; i++) {
         const size_t k = row_of(s, d, f->x[i], f->y[i], f->z[i]);
         rank[i] = d->owner[k];
@@ -315,6 +549,11 @@ void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t
         for (uint32_t q = d->nstart[k]; q < d->nstart[k + 1]; q++) halo[d->nrank[q]]++;
     }
     for (int r = 0; r < p; r++) stored[r] += halo[r];
+    for (size_t j = 0; j < b->n - b->nimages; j++) { /* own rows and halo rows */
+        const size_t k = row_of(s, d, b->x[j], b->y[j], b->z[j]);
+        bstored[d->owner[k]]++;
+        for (uint32_t q = d->nstart[k]; q < d->nstart[k + 1]; q++) bstored[d->nrank[q]]++;
+    }
     domain_free(d);
 }
 
@@ -341,6 +580,19 @@ void pcd_init(pcs_solver *s)
     d->nown = j;
     shrink(f, j + j / 4 + 1024); /* own and some halo; grows when it must */
     d->nsorted = 0;
+    /* the boundary: own and halo rows; moving walls carry it across them */
+    d->bmoving = s->eff && eff_find(s->eff, "movingBoundary");
+    s->split.nbglobal = s->b->n;
+    keep_boundary_rows(s, d);
+    sl_free_aligned(s->split.bbuf); /* the gather mode's, sized for every boundary particle */
+    s->split.bbuf = NULL;
+    /* overlap: the rows that read no halo value computed while it travels
+     * (not with EFF_DENSITY effects, whose set-up reads the halo's x*) */
+    const char *ov = getenv("SLUICE_PARALLEL_OVERLAP");
+    if (ov && *ov && strcmp(ov, "0") && strcmp(ov, "1"))
+        sl_fatal("SLUICE_PARALLEL_OVERLAP=%s: 0 (blocking exchanges) or 1 (overlap)", ov);
+    s->split.overlap = !(ov && !strcmp(ov, "0")) && s->ndens == 0;
+    d->with_b = d->bsend_own && s->prm.method->wall_density;
 }
 
 void pcd_free(pcs_solver *s)
@@ -359,19 +611,21 @@ static void domain_free(struct pcs_domain *d)
     free(d->scnt), free(d->sdis), free(d->rcnt), free(d->rdis);
     free(d->hscnt), free(d->hsdis), free(d->hrcnt), free(d->hrdis);
     free(d->ws), free(d->wsd), free(d->wr), free(d->wrd), free(d->pcnt), free(d->pdis);
-    free(d->bscnt), free(d->bsdis), free(d->brcnt), free(d->brdis);
+    free(d->bscnt), free(d->bsdis), free(d->brcnt), free(d->brdis), free(d->bpos);
+    sl_free_aligned(d->bown), sl_free_aligned(d->brow), sl_free_aligned(d->bmark);
+    sl_free_aligned(d->isbuf), sl_free_aligned(d->irbuf);
+    sl_free_aligned(d->mbstart), sl_free_aligned(d->bmap), sl_free_aligned(d->bkeys);
+    prt_boundary_free(&d->mbound);
     sl_free_aligned(d->bsend_idx), sl_free_aligned(d->brecv_idx);
     sl_free_aligned(d->dest);
     sl_free_aligned(d->sbuf), sl_free_aligned(d->rbuf);
     sl_free_aligned(d->send_idx), sl_free_aligned(d->recv_idx), sl_free_aligned(d->inv);
-    free(d->bstamp), free(d->bkey), free(d->bmark), free(d->bval);
     prt_fluid_free(&d->mirror);
     sl_free_aligned(d->mfstart);
     nbr_list_free(&d->mbf);
     sl_free_aligned(d->gbuf);
     free(d->tail);
     snap_free(&d->full);
-    sl_free_aligned(d->vol_all);
     free(d);
 }
 
@@ -494,6 +748,7 @@ void pcd_distribute(pcs_solver *s)
         big = d->cnt_p[q] > big ? d->cnt_p[q] : big;
     }
     const double imb = total > 0 ? (double)big * p / (double)total : 1.0;
+    int recut = 0;
     if (imb > 1.0 + d->threshold && imb > d->imb_after + 0.5 * d->threshold) {
         /* rebalance: the cuts again from the global counts per row */
         memset(d->rowcount, 0, d->nrows * sizeof *d->rowcount);
@@ -502,7 +757,9 @@ void pcd_distribute(pcs_solver *s)
         d->imb_after = set_cuts(d, d->rowcount, p);
         destinations(d, f, d->dest, d->cnt_p, p);
         d->c.rebalances++;
+        recut = 1;
     }
+    if (d->bmoving || recut) distribute_boundary(s, d); /* to the rows that store them now */
     if (imb > d->c.imbalance_max) d->c.imbalance_max = imb;
     s->split.nglobal = (size_t)total;
     migrate(s, d);
@@ -560,20 +817,45 @@ static void boundary_lists(const pcs_solver *s, struct pcs_domain *d)
     }
 }
 
-/* The boundary particles' p/rho^2 from the owners of their cells. */
-static void exchange_boundary(pcs_solver *s, struct pcs_domain *d)
+/* The overlap's order: the own rows whose lists hold no halo particle
+ * (no fluid neighbour outside the own rows, no boundary neighbour outside
+ * the own cells [j0, j1): its p/rho^2 would travel) first, in order, then
+ * the others; the boundary set's particles whose fluid neighbours are all
+ * own first (their density reads no halo x*). */
+static void split_inner(pcs_solver *s, struct pcs_domain *d, size_t j0, size_t j1)
 {
-    const double t0 = omp_get_wtime();
-    const int p = s->split.size;
-    double *pt = s->b->pt;
-    d->sbuf = grow(d->sbuf, &d->sbuf_cap, d->nbsend + 1, sizeof *d->sbuf, "halo buffer");
-    d->rbuf = grow(d->rbuf, &d->rbuf_cap, d->nbrecv + 1, sizeof *d->rbuf, "halo buffer");
-    for (size_t k = 0; k < d->nbsend; k++) d->sbuf[k] = pt[d->bsend_idx[k]];
-    scale(d->bscnt, 1, d->ws, d->wsd, p);
-    scale(d->brcnt, 1, d->wr, d->wrd, p);
-    par_exchange_double(d->sbuf, d->ws, d->wsd, d->rbuf, d->wr, d->wrd);
-    for (size_t k = 0; k < d->nbrecv; k++) pt[d->brecv_idx[k]] = d->rbuf[k];
-    s->time.comm += omp_get_wtime() - t0;
+    pcs_split *sp = &s->split;
+    const uint32_t *ffs = s->ff.start, *ffi = s->ff.idx, *fbs = s->fb.start, *fbi = s->fb.idx;
+    const size_t lo = d->lo, hi = d->hi, m = hi - lo;
+    sp->order = grow(sp->order, &sp->order_cap, m + 1, sizeof *sp->order, "own rows");
+    size_t a = 0, z = m;
+    for (size_t i = lo; i < hi; i++) { /* inner from the front, border from the back */
+        int in = 1;
+        for (uint32_t q = ffs[i]; in && q < ffs[i + 1]; q++) in = ffi[q] >= lo && ffi[q] < hi;
+        for (uint32_t q = fbs[i]; in && q < fbs[i + 1]; q++) in = fbi[q] >= j0 && fbi[q] < j1;
+        if (in) sp->order[a++] = (uint32_t)i;
+        else sp->order[--z] = (uint32_t)i;
+    }
+    for (size_t u = a, v = m; u + 1 < v; u++, v--) { /* the border rows in order */
+        const uint32_t t = sp->order[u];
+        sp->order[u] = sp->order[v - 1];
+        sp->order[v - 1] = t;
+    }
+    sp->ninner = a;
+    sp->norder = m;
+    d->inner_sum += m ? (double)a / (double)m : 1.0;
+    const uint32_t *bfs = s->bf.start, *bfi = s->bf.idx;
+    size_t nin = 0;
+    for (size_t q = 0; q < sp->nbset; q++) {
+        const uint32_t j = sp->bset[q];
+        int in = 1;
+        for (uint32_t k = bfs[j]; in && k < bfs[j + 1]; k++) in = bfi[k] >= lo && bfi[k] < hi;
+        if (in) { /* to the front (the set's order does not matter) */
+            sp->bset[q] = sp->bset[nin];
+            sp->bset[nin++] = j;
+        }
+    }
+    sp->nbset_inner = nin;
 }
 
 void pcd_after_search(pcs_solver *s)
@@ -614,25 +896,29 @@ void pcd_after_search(pcs_solver *s)
     sp->empty += mn == 0;
     sp->rows_min_sum += (double)mn;
     sp->rows_max_sum += (double)mx;
-    /* the boundary particles the own rows see: this rank computes them */
+    /* the boundary particles this rank computes: the active ones in the
+     * own cells (their lists are complete; so their owner holds their
+     * serial density and pressure) and, with two cells of halo, those the
+     * own rows see (their lists are complete too) */
     sp->bset = grow(sp->bset, &sp->bset_cap, nb + 1, sizeof *sp->bset, "boundary set");
-    if (!d->bmark) {
-        d->bmark = sl_calloc(nb + 1, sizeof *d->bmark, "boundary marks");
-        d->bstamp = sl_calloc(nb + 1, sizeof *d->bstamp, "boundary stamps");
-        d->bkey = sl_calloc(2 * nb + 1, sizeof *d->bkey, "boundary stamps");
-        d->bval = sl_calloc(3 * nb + 1, sizeof *d->bval, "boundary values");
+    if (d->bmark_cap < nb + 1) {
+        d->bmark = grow(d->bmark, &d->bmark_cap, nb + 1, sizeof *d->bmark, "boundary marks");
+        memset(d->bmark, 0, d->bmark_cap * sizeof *d->bmark);
+        d->bst = 0;
     }
     if (++d->bst == 0) {
-        memset(d->bmark, 0, (nb + 1) * sizeof *d->bmark);
+        memset(d->bmark, 0, d->bmark_cap * sizeof *d->bmark);
         d->bst = 1;
     }
     size_t nbs = 0;
     const size_t j0 = g->bstart[c0cell], j1 = g->bstart[c1cell];
-    if (d->bsend_own) { /* the active ones in the own cells (their lists are complete) */
-        for (size_t q = 0; q < s->nactive; q++)
-            if (s->active[q] >= j0 && s->active[q] < j1) sp->bset[nbs++] = s->active[q];
-        boundary_lists(s, d);
-    } else { /* two cells: those the own rows see */
+    for (size_t q = 0; q < s->nactive; q++)
+        if (s->active[q] >= j0 && s->active[q] < j1) {
+            sp->bset[nbs++] = s->active[q];
+            d->bmark[s->active[q]] = d->bst;
+        }
+    if (d->bsend_own) boundary_lists(s, d); /* one cell: the others' p/rho^2 from their owners */
+    else {                                  /* two cells: those the own rows see */
         const uint32_t *fbs = s->fb.start, *fbi = s->fb.idx;
         for (size_t i = d->lo; i < d->hi; i++)
             for (uint32_t q = fbs[i]; q < fbs[i + 1]; q++) {
@@ -643,6 +929,7 @@ void pcd_after_search(pcs_solver *s)
             }
     }
     sp->nbset = nbs;
+    if (sp->overlap) split_inner(s, d, j0, j1);
     /* the active boundary particles in the own cells: counted once */
     long act = 0;
     for (size_t q = 0; q < s->nactive; q++) act += s->active[q] >= j0 && s->active[q] < j1;
@@ -650,36 +937,102 @@ void pcd_after_search(pcs_solver *s)
     d->c.searches++;
     d->stored_sum += (double)n;
     d->halo_sum += (double)d->nrecv;
+    d->bstored_sum += (double)nb;
+    d->blists = 1;
     sp->halo_rows = d->nrecv;
     sp->halo_sum += (double)d->nrecv;
     sp->halo_max = d->nrecv > sp->halo_max ? d->nrecv : sp->halo_max;
-    d->vol_valid = 0;
     s->time.comm += par_counters().seconds - c0;
 }
 
 /* ---- per PCISPH iteration ---- */
 
-/* The halo's w values per particle from their owners: pack from send_idx,
- * unpack to recv_idx. */
-static void exchange(pcs_solver *s, double *const *a, int w)
+/* The halo's x* (3 doubles per particle) started, from send_idx. */
+void pcd_exchange_predicted(pcs_solver *s)
 {
     struct pcs_domain *d = s->split.dd;
     const int p = s->split.size;
     const double t0 = omp_get_wtime();
-    for (size_t k = 0; k < d->nsend; k++)
-        for (int c = 0; c < w; c++) d->sbuf[(size_t)w * k + (size_t)c] = a[c][d->send_idx[k]];
-    scale(d->hscnt, w, d->ws, d->wsd, p);
-    scale(d->hrcnt, w, d->wr, d->wrd, p);
-    par_exchange_double(d->sbuf, d->ws, d->wsd, d->rbuf, d->wr, d->wrd);
-    for (size_t k = 0; k < d->nrecv; k++)
-        for (int c = 0; c < w; c++) a[c][d->recv_idx[k]] = d->rbuf[(size_t)w * k + (size_t)c];
+    const double *x = s->f->xs, *y = s->f->ys, *z = s->f->zs;
+    d->isbuf = grow(d->isbuf, &d->isbuf_cap, 3 * d->nsend + 1, sizeof *d->isbuf, "halo buffer");
+    d->irbuf = grow(d->irbuf, &d->irbuf_cap, 3 * d->nrecv + 1, sizeof *d->irbuf, "halo buffer");
+    double *o = d->isbuf;
+    for (size_t k = 0; k < d->nsend; k++) {
+        const uint32_t i = d->send_idx[k];
+        o[3 * k] = x[i], o[3 * k + 1] = y[i], o[3 * k + 2] = z[i];
+    }
+    scale(d->hscnt, 3, d->ws, d->wsd, p);
+    scale(d->hrcnt, 3, d->wr, d->wrd, p);
+    par_exchange_start(d->isbuf, d->ws, d->wsd, d->irbuf, d->wr, d->wrd);
+    d->inflight = 1;
+    s->time.comm += omp_get_wtime() - t0;
+    if (!s->split.overlap) pcd_wait(s);
+}
+
+/* The halo's p/rho^2 and rho (2 doubles per particle), and with the
+ * one-cell halo the boundary's p/rho^2 from the owners of their cells (1
+ * each), in one message per neighbour rank, started. */
+static void start_pressure(pcs_solver *s, struct pcs_domain *d)
+{
+    const int p = s->split.size;
+    const double t0 = omp_get_wtime();
+    const double *pt = s->f->pt, *rho = s->f->rho, *bpt = s->b->pt;
+    const int wb = d->with_b;
+    d->isbuf = grow(d->isbuf, &d->isbuf_cap, 2 * d->nsend + d->nbsend + 1, sizeof *d->isbuf,
+                    "halo buffer");
+    d->irbuf = grow(d->irbuf, &d->irbuf_cap, 2 * d->nrecv + d->nbrecv + 1, sizeof *d->irbuf,
+                    "halo buffer");
+    size_t at = 0, rat = 0;
+    for (int q = 0; q < p; q++) {
+        d->wsd[q] = as_int(at);
+        for (int k = d->hsdis[q]; k < d->hsdis[q] + d->hscnt[q]; k++) {
+            const uint32_t i = d->send_idx[k];
+            d->isbuf[at++] = pt[i];
+            d->isbuf[at++] = rho[i];
+        }
+        if (wb)
+            for (int k = d->bsdis[q]; k < d->bsdis[q] + d->bscnt[q]; k++)
+                d->isbuf[at++] = bpt[d->bsend_idx[k]];
+        d->ws[q] = as_int(at) - d->wsd[q];
+        d->wrd[q] = as_int(rat);
+        rat += 2 * (size_t)d->hrcnt[q] + (wb ? (size_t)d->brcnt[q] : 0);
+        d->wr[q] = as_int(rat) - d->wrd[q];
+    }
+    par_exchange_start(d->isbuf, d->ws, d->wsd, d->irbuf, d->wr, d->wrd);
+    d->inflight = 2;
     s->time.comm += omp_get_wtime() - t0;
 }
 
-void pcd_exchange_predicted(pcs_solver *s)
+void pcd_wait(pcs_solver *s)
 {
-    double *a[3] = {s->f->xs, s->f->ys, s->f->zs};
-    exchange(s, a, 3);
+    struct pcs_domain *d = s->split.dd;
+    if (!d || !d->inflight) return;
+    const int p = s->split.size;
+    const double t0 = omp_get_wtime();
+    par_exchange_wait();
+    const double *o = d->irbuf;
+    if (d->inflight == 1) {
+        double *x = s->f->xs, *y = s->f->ys, *z = s->f->zs;
+        for (size_t k = 0; k < d->nrecv; k++) {
+            const uint32_t i = d->recv_idx[k];
+            x[i] = o[3 * k], y[i] = o[3 * k + 1], z[i] = o[3 * k + 2];
+        }
+    } else {
+        double *pt = s->f->pt, *rho = s->f->rho, *bpt = s->b->pt;
+        size_t at = 0;
+        for (int q = 0; q < p; q++) {
+            for (int k = d->hrdis[q]; k < d->hrdis[q] + d->hrcnt[q]; k++) {
+                const uint32_t i = d->recv_idx[k];
+                pt[i] = o[at++];
+                rho[i] = o[at++];
+            }
+            if (d->with_b)
+                for (int k = d->brdis[q]; k < d->brdis[q] + d->brcnt[q]; k++)
+                    bpt[d->brecv_idx[k]] = o[at++];
+        }
+    }
+    d->inflight = 0;
+    s->time.comm += omp_get_wtime() - t0;
 }
 
 /* The rank whose own rows hold row g of the serial order. */
@@ -702,14 +1055,13 @@ static int owner_of_row(const struct pcs_domain *d, int p, size_t g)
  * from the running sum they pass up (one double, point-to-point), so it
  * is summed in the serial order; then each block's sum is sent by the
  * rank holding its last row to every rank (N / 4096 doubles). */
-static void chain_block_sums(pcs_solver *s, struct pcs_domain *d)
+static void chain_block_sums(pcs_solver *s, struct pcs_domain *d, const double *rows, double *part)
 {
     const int p = s->split.size, me = s->split.rank;
     const size_t n = s->split.nglobal, B = SL_REDUCE_BLOCK;
     const size_t nb = (n + B - 1) / B;
     const size_t G0 = d->goff[me], G1 = d->goff[me + 1];
-    double *part = s->err_block;
-    const double *err = s->err + d->lo; /* row G0 */
+    const double *err = rows + d->lo; /* row G0 */
     if (G1 > G0) {
         const size_t bfirst = G0 / B, blast = (G1 - 1) / B;
         int sent = 0;
@@ -738,38 +1090,45 @@ static void chain_block_sums(pcs_solver *s, struct pcs_domain *d)
 double pcd_after_density(pcs_solver *s, double emax)
 {
     struct pcs_domain *d = s->split.dd;
-    const int p = s->split.size, me = s->split.rank;
-    const size_t n = s->split.nglobal;
     const double t0 = omp_get_wtime();
-    chain_block_sums(s, d);
+    chain_block_sums(s, d, s->err, s->err_block);
     s->time.comm += omp_get_wtime() - t0;
     /* the halo's p/rho^2 (the pressure force) and density (the next
-     * density pass's EFF_DENSITY effects) */
-    double *a[2] = {s->f->pt, s->f->rho};
-    exchange(s, a, 2);
-    if (d->bsend_own && s->prm.method->wall_density) exchange_boundary(s, d);
+     * density pass's EFF_DENSITY effects), and the boundary's p/rho^2:
+     * started, completed before the pressure force reads them */
+    start_pressure(s, d);
     const double t1 = omp_get_wtime();
-    if (!s->prm.method->wall_density) { /* measured compression of every row (sl_sum) */
-        d->vol_all = grow(d->vol_all, &d->vol_cap, n + 1, sizeof *d->vol_all, "density error");
-        for (int r = 0; r < p; r++) {
-            d->pcnt[r] = as_int(d->goff[r + 1] - d->goff[r]);
-            d->pdis[r] = as_int(d->goff[r]);
-        }
-        par_allgatherv(s->err_vol + d->lo, d->pcnt[me], d->vol_all, d->pcnt, d->pdis);
-        d->vol_valid = 1;
-    }
-    /* by creation index: moving walls re-sort the boundary every step */
-    const uint32_t *bid = s->b->id;
-    for (size_t q = 0; q < s->split.nbset; q++) d->bstamp[bid[s->split.bset[q]]] = d->c.searches;
     emax = par_max_double(emax); /* a maximum: exact in any order */
     s->time.comm += omp_get_wtime() - t1;
+    if (!s->split.overlap) pcd_wait(s);
     return emax;
 }
 
-const double *pcd_err_vol(const pcs_solver *s)
+double pcd_vol_blocks(pcs_solver *s)
 {
-    const struct pcs_domain *d = s->split.dd;
-    return d && d->vol_valid ? d->vol_all : NULL;
+    struct pcs_domain *d = s->split.dd;
+    const int me = s->split.rank;
+    const size_t B = SL_REDUCE_BLOCK;
+    const size_t G0 = d->goff[me], G1 = d->goff[me + 1];
+    const double *ev = s->err_vol + d->lo; /* row G0 */
+    double *part = s->vol_block, vmax = -HUGE_VAL;
+    const double t0 = omp_get_wtime();
+    if (G1 > G0) /* this rank's whole blocks and the start of its last (as the pass sums err) */
+        for (size_t blk = G0 / B; blk <= (G1 - 1) / B; blk++) {
+            const size_t lo = blk * B > G0 ? blk * B : G0;
+            const size_t hi = (blk + 1) * B < G1 ? (blk + 1) * B : G1;
+            double sum = 0.0;
+            for (size_t g = lo; g < hi; g++) {
+                sum += ev[g - G0];
+                __asm__("" : "+m"(sum)); /* one at a time: the serial order */
+                vmax = ev[g - G0] > vmax ? ev[g - G0] : vmax;
+            }
+            part[blk] = sum;
+        }
+    chain_block_sums(s, d, s->err_vol, part);
+    vmax = par_max_double(vmax); /* a maximum: exact in any order */
+    s->time.comm += omp_get_wtime() - t0;
+    return vmax;
 }
 
 /* ---- the end of a step ---- */
@@ -814,52 +1173,93 @@ static int cmp_u64(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* The boundary particles' density and pressure on rank 0: each from the
- * rank that computed it at the latest search (all ranks that computed it
- * then hold the same bits; rank 0's own when none did); and which were
- * active at the last search (on any rank). */
+/* What rank 0 receives of a boundary particle for output and function
+ * objects: x, n, m_b, rho, p, p/rho^2, the wall velocity, body, creation
+ * index, and whether it was active at the last search. */
+#define BOUT 16
+
+/* Rank 0's copy of the boundary in the serial order ((cell, creation
+ * index) at the current positions, as nbr_sort_boundary orders it): every
+ * rank sends its own boundary particles with their last density and
+ * pressure (their owner computed those), and whether their rows of the
+ * last search were non-empty (the own cells' lists are complete). */
 static void gather_boundary(pcs_solver *s, struct pcs_domain *d)
 {
-    sl_boundary *b = s->b;
-    const size_t nb = b->n;
+    const sl_boundary *b = s->b;
     const int p = s->split.size, me = s->split.rank;
-    if (!nb) return;
-    if (!d->bmark) {
-        d->bmark = sl_calloc(nb + 1, sizeof *d->bmark, "boundary marks");
-        d->bstamp = sl_calloc(nb + 1, sizeof *d->bstamp, "boundary stamps");
-        d->bkey = sl_calloc(2 * nb + 1, sizeof *d->bkey, "boundary stamps");
-        d->bval = sl_calloc(3 * nb + 1, sizeof *d->bval, "boundary values");
-    }
+    const size_t n = b->n;
+    const int lists = d->blists && s->bf.n == n;
     const uint32_t *st = s->bf.start;
-    const int lists = s->bf.n == nb;
-    for (size_t j = 0; j < nb; j++) {
-        d->bkey[j] = d->bstamp[b->id[j]] * p + (p - 1 - me);
-        d->bkey[nb + j] = lists && st[j + 1] > st[j];
+    d->sbuf = grow(d->sbuf, &d->sbuf_cap, BOUT * d->nb_own + 1, sizeof *d->sbuf, "output buffer");
+    size_t m = 0;
+    for (size_t j = 0; j < n; j++) {
+        if (!own_boundary(d, b->id[j])) continue;
+        double *o = d->sbuf + BOUT * m++;
+        o[0] = b->x[j], o[1] = b->y[j], o[2] = b->z[j];
+        o[3] = b->nx[j], o[4] = b->ny[j], o[5] = b->nz[j];
+        o[6] = b->mass[j], o[7] = b->rho[j], o[8] = b->p[j], o[9] = b->pt[j];
+        o[10] = b->vx[j], o[11] = b->vy[j], o[12] = b->vz[j];
+        o[13] = (double)b->body[j], o[14] = (double)b->id[j];
+        o[15] = lists && st[j + 1] > st[j];
     }
-    par_max_longs(d->bkey, 2 * nb);
-    for (size_t j = 0; j < nb; j++) {
-        const int mine = d->bkey[j] == d->bstamp[b->id[j]] * p + (p - 1 - me);
-        d->bval[3 * j] = mine ? b->rho[j] : 0.0;
-        d->bval[3 * j + 1] = mine ? b->p[j] : 0.0;
-        d->bval[3 * j + 2] = mine ? b->pt[j] : 0.0;
+    if (m != d->nb_own)
+        sl_fatal("pcs_domain: %zu own boundary particles stored of %zu (internal error)", m,
+                 d->nb_own);
+    par_allgather_long((long)m, d->all_n);
+    size_t total = 0;
+    for (int r = 0; r < p; r++) {
+        d->pcnt[r] = as_int(BOUT * (size_t)d->all_n[r]);
+        d->pdis[r] = as_int(total);
+        total += (size_t)d->pcnt[r];
     }
-    par_sum_doubles_root(d->bval, 3 * nb);
+    if (total != BOUT * d->nb_global)
+        sl_fatal("pcs_domain: %zu boundary particles owned by the ranks, %zu in the case "
+                 "(internal error)",
+                 total / BOUT, d->nb_global);
+    if (!me) d->gbuf = grow(d->gbuf, &d->gbuf_cap, total + 1, sizeof *d->gbuf, "output buffer");
+    par_gatherv_root(d->sbuf, d->pcnt[me], d->gbuf, d->pcnt, d->pdis);
     if (me) return;
-    for (size_t j = 0; j < nb; j++) {
-        b->rho[j] = d->bval[3 * j];
-        b->p[j] = d->bval[3 * j + 1];
-        b->pt[j] = d->bval[3 * j + 2];
+    const size_t N = d->nb_global;
+    const nbr_grid *g = &s->grid;
+    d->bkeys = grow(d->bkeys, &d->bkeys_cap, N + 1, sizeof *d->bkeys, "output order");
+    if (!d->bmap) {
+        d->bmap = sl_alloc_aligned((N + 1) * sizeof *d->bmap, "output order");
+        d->mbstart = sl_alloc_aligned((g->ncells + 1) * sizeof *d->mbstart, "grid cells");
     }
-    /* the active ones, as the boundary -> fluid lists' rows tell */
+    for (size_t q = 0; q < N; q++) {
+        const double *o = d->gbuf + BOUT * q;
+        const uint32_t id = (uint32_t)o[14];
+        if (id >= N) sl_fatal("pcs_domain: boundary index %u of %zu (internal error)", id, N);
+        d->bmap[id] = (uint32_t)q;
+        d->bkeys[q] = (uint64_t)nbr_cell_rank(g, o[0], o[1], o[2]) << 32 | id;
+    }
+    qsort(d->bkeys, N, sizeof *d->bkeys, cmp_u64);
+    sl_boundary *mb = &d->mbound;
+    prt_boundary_reserve(mb, N);
+    memset(d->mbstart, 0, (g->ncells + 1) * sizeof *d->mbstart);
     nbr_list *l = &d->mbf;
-    if (l->rows_cap < nb + 1) {
+    if (l->rows_cap < N + 1) {
         sl_free_aligned(l->start);
-        l->start = sl_alloc_aligned((nb + 1) * sizeof *l->start, "boundary rows");
-        l->rows_cap = nb + 1;
+        l->start = sl_alloc_aligned((N + 1) * sizeof *l->start, "boundary rows");
+        l->rows_cap = N + 1;
     }
-    l->n = nb;
     l->start[0] = 0;
-    for (size_t j = 0; j < nb; j++) l->start[j + 1] = l->start[j] + (d->bkey[nb + j] ? 1u : 0u);
+    for (size_t q = 0; q < N; q++) {
+        const uint32_t id = (uint32_t)(d->bkeys[q] & 0xffffffffu);
+        const double *o = d->gbuf + BOUT * d->bmap[id];
+        mb->x[q] = o[0], mb->y[q] = o[1], mb->z[q] = o[2];
+        mb->nx[q] = o[3], mb->ny[q] = o[4], mb->nz[q] = o[5];
+        mb->mass[q] = o[6], mb->rho[q] = o[7], mb->p[q] = o[8], mb->pt[q] = o[9];
+        mb->vx[q] = o[10], mb->vy[q] = o[11], mb->vz[q] = o[12];
+        mb->body[q] = (uint32_t)o[13];
+        mb->id[q] = id;
+        d->mbstart[(d->bkeys[q] >> 32) + 1]++;
+        l->start[q + 1] = l->start[q] + (o[15] != 0.0 ? 1u : 0u);
+    }
+    mb->n = N;
+    for (size_t c = 0; c < g->ncells; c++) d->mbstart[c + 1] += d->mbstart[c];
+    /* no lists yet (before the first search): the serial run's are empty */
+    l->n = lists ? N : 0;
 }
 
 void pcd_gather(pcs_solver *s)
@@ -885,7 +1285,6 @@ void pcd_gather(pcs_solver *s)
     }
     if (!me) d->gbuf = grow(d->gbuf, &d->gbuf_cap, total + 1, sizeof *d->gbuf, "output buffer");
     par_gatherv_root(d->sbuf, d->pcnt[me], d->gbuf, d->pcnt, d->pdis);
-    gather_boundary(s, d);
     if (!me) {
         /* the rows sorted at the last search in rank order (the serial
          * order), then the particles appended since (emitted), by id */
@@ -928,8 +1327,12 @@ void pcd_gather(pcs_solver *s)
         d->mgrid = *g;
         d->mgrid.fstart = d->mfstart;
         d->mgrid.hstart = NULL;
+        d->mgrid.bcell = d->mgrid.bperm = NULL; /* not for sorting */
+        d->mgrid.bperm_cap = 0;
         d->have_mirror = 1;
     }
+    gather_boundary(s, d); /* after the fluid's: it reuses the buffers */
+    if (!me) d->mgrid.bstart = d->mbstart;
     d->fresh = 1;
     d->c.gathers++;
     d->c.gather_seconds += omp_get_wtime() - t0;
@@ -946,6 +1349,12 @@ const nbr_grid *pcd_mirror_grid(const pcs_solver *s)
 {
     const struct pcs_domain *d = s->split.dd;
     return d && d->have_mirror ? &d->mgrid : NULL;
+}
+
+const sl_boundary *pcd_mirror_boundary(const pcs_solver *s)
+{
+    const struct pcs_domain *d = s->split.dd;
+    return d && d->have_mirror ? &d->mbound : NULL;
 }
 
 const nbr_list *pcd_mirror_bf(const pcs_solver *s)
@@ -1037,6 +1446,17 @@ pcd_counts pcd_counters(const pcs_solver *s)
     c.mem_min = -par_max_double(-mem);
     c.migrated_up = par_sum_long(c.migrated_up);
     c.migrated_down = par_sum_long(c.migrated_down);
+    c.bstored_max = (size_t)par_max_double((double)s->b->n);
+    c.bstored_min = (size_t)-par_max_double(-(double)s->b->n);
+    c.bstored_mean = d->bstored_sum / searches;
+    c.nb_global = d->nb_global;
+    c.bdistributions = d->bdistributions;
+    c.bmigrated = par_sum_long(d->bmigrated);
+    c.overlap = s->split.overlap;
+    c.inner_share = -par_max_double(-d->inner_sum / searches);
+    if ((size_t)par_sum_long((long)d->nb_own) != d->nb_global)
+        sl_fatal("pcs_domain: the ranks own %ld boundary particles of %zu (internal error)",
+                 par_sum_long((long)d->nb_own), d->nb_global);
     (void)stored;
     return c;
 }

@@ -16,16 +16,21 @@
  * particles of the rows within one cell (in y and z) of the own rows.  The
  * neighbour lists over that window hold each own particle's serial
  * neighbours in the serial order, so every per-particle sum is the serial
- * sum.  The boundary particles stay replicated (every rank holds all);
- * those in a rank's cells (whose lists are complete) are computed by it
- * and their p/rho^2 sent to the ranks whose rows see them.  Surface
+ * sum.  The boundary particles are distributed by cell as well: a rank
+ * stores those of its own rows and of its halo rows; the active ones in
+ * its own cells (whose lists are complete) are computed by it and their
+ * p/rho^2 sent to the ranks whose rows see them, so their owner holds
+ * their serial density and pressure; walls that move carry them across
+ * the rows, and they then migrate to their new owner with all their
+ * fields (pcd_distribute; also when rebalancing moves the cuts).  Surface
  * tension reads its neighbours' normals: with it the halo is two cells
  * deep and every rank computes the boundary particles its rows see.
  *
  * Per PCISPH iteration: x* of the halo after the prediction, p/rho^2 and
- * rho after the density pass (and the boundary's p/rho^2), point-to-point
- * from the owners
- * (par_exchange_double); the density error's block sums in the serial
+ * rho after the density pass (and the boundary's p/rho^2, in the same
+ * message), point-to-point from the owners (par_exchange_start / wait:
+ * the passes compute the own rows whose lists hold no halo particle while
+ * the messages travel, then the others); the density error's block sums in the serial
  * order (the blocks of SL_REDUCE_BLOCK rows of the serial array, made
  * from every rank's whole blocks and the rows of the blocks it shares);
  * the largest compression by a max-reduction.
@@ -37,7 +42,8 @@
  *
  * Output and function objects: rank 0 gathers the state (pcs_gather) in
  * the serial order when something reads it (time directories, function
- * objects); boundary values come from the rank that computed them last.
+ * objects); each boundary particle from its owner, sorted again on rank 0
+ * by (cell, creation index), the serial order.
  */
 #ifndef SL_PCS_DOMAIN_H
 #define SL_PCS_DOMAIN_H
@@ -52,16 +58,25 @@ int pcd_usable(const pcs_solver *s);
 void pcd_init(pcs_solver *s);
 void pcd_free(pcs_solver *s);
 /* decomposeCase: the cuts this mode makes of s's fluid (sorted, in one
- * process) over p ranks: each particle's rank, and per rank the
- * particles its halo holds and those it stores (own + halo). */
-void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t *halo);
+ * process) over p ranks: each particle's rank, and per rank the fluid
+ * particles its halo holds and those it stores (own + halo), and the
+ * boundary particles it stores (those of its own and halo rows). */
+void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t *halo,
+                   size_t *bstored);
 /* Before the sort: migration, rebalancing, halo received. */
 void pcd_distribute(pcs_solver *s);
 /* After the sort and the lists: own rows, exchange lists, the boundary
  * particles this rank computes, counts. */
 void pcd_after_search(pcs_solver *s);
+/* Per PCISPH iteration: the halo's x* after the prediction, and after the
+ * density pass the block sums, the halo's p/rho^2 and rho (and the
+ * boundary's p/rho^2), the largest compression.  With the overlap
+ * (split.overlap) the point-to-point messages are only started: the
+ * passes compute the rows that read no halo value, then pcd_wait
+ * completes them (a no-op when nothing is in flight). */
 void pcd_exchange_predicted(pcs_solver *s);
 double pcd_after_density(pcs_solver *s, double emax);
+void pcd_wait(pcs_solver *s);
 /* After the integration (and after the density for output): the own
  * rows to the front, the halo dropped. */
 void pcd_keep_own(pcs_solver *s);
@@ -74,6 +89,7 @@ void pcd_gather(pcs_solver *s);
 const sl_fluid *pcd_mirror(const pcs_solver *s);
 const nbr_grid *pcd_mirror_grid(const pcs_solver *s);
 const nbr_list *pcd_mirror_bf(const pcs_solver *s);
+const sl_boundary *pcd_mirror_boundary(const pcs_solver *s);
 /* The whole of a snapshot whose particles are spread over the ranks (the
  * state at the start of a step), on rank 0: for restart files
  * (collective; rank 0 gets the gathered copy, the others `mine`). */
@@ -81,9 +97,11 @@ const pcs_snapshot *pcd_full_snapshot(pcs_solver *s, const pcs_snapshot *mine);
 /* A snapshot of the whole state (a restart file read by every rank) cut
  * down to this rank's particles. */
 void pcd_localize_snapshot(const pcs_solver *s, pcs_snapshot *snap);
-/* The methods without wall density: the measured compression of every
- * row of the last density pass (NULL when not gathered). */
-const double *pcd_err_vol(const pcs_solver *s);
+/* The methods without wall density, after the pressure solve: the block
+ * sums of the measured compression (err_vol) of the last density pass in
+ * s->vol_block, every block on every rank (made as the density error's:
+ * no row travels); returns the largest (collective). */
+double pcd_vol_blocks(pcs_solver *s);
 
 /* For the End summary. */
 typedef struct pcd_counts {
@@ -94,6 +112,18 @@ typedef struct pcd_counts {
     double imbalance_max;                              /* largest max/mean of a search */
     double gather_seconds;
     double mem_min, mem_max; /* resident bytes at the end, over the ranks */
+    /* boundary particles: stored per rank at the last distribution (own +
+     * halo rows), this rank's mean over searches, of nb_global; how often
+     * they were distributed (walls moving, cuts moved) and how many changed
+     * owner (all ranks) */
+    size_t bstored_min, bstored_max, nb_global;
+    double bstored_mean;
+    long bdistributions, bmigrated;
+    /* the overlap: on (split.overlap); the share of the own rows computed
+     * while the halo travels, mean over the searches, smallest over the
+     * ranks */
+    int overlap;
+    double inner_share;
 } pcd_counts;
 pcd_counts pcd_counters(const pcs_solver *s);
 

@@ -103,6 +103,24 @@ static void test_dam_break_np123(void **state)
         assert_int_equal(run_np("tests/cases/damBreakShort", names[np - 1], dam, np), 0);
         same_output("parDamSerial", names[np - 1]);
     }
+    /* static walls: each of 3 ranks stores the boundary particles of its
+     * rows and halo rows only, distributed once at the start */
+    assert_int_equal(system("sed -En 's/.*boundary particles stored per rank .* max ([0-9]+) of "
+                            "([0-9]+) .*distributed ([0-9]+) times.*/\\1 \\2 \\3/p' "
+                            "tests/output/parDam3/log.pcisph | awk '{ exit !($1 < $2 && $3 == "
+                            "0) }'"),
+                     0);
+    /* the overlap (the default): rows that read no halo value computed
+     * while x* and p/rho^2 travel; the blocking exchanges give the same bytes */
+    assert_int_equal(system("grep -Eq 'overlap: [1-9][0-9]* % of the own rows' "
+                            "tests/output/parDam3/log.pcisph"),
+                     0);
+    setenv("SLUICE_PARALLEL_OVERLAP", "0", 1);
+    int rc = run_np("tests/cases/damBreakShort", "parDamBlocking3", dam, 3);
+    unsetenv("SLUICE_PARALLEL_OVERLAP");
+    assert_int_equal(rc, 0);
+    same_output("parDamSerial", "parDamBlocking3");
+    assert_int_equal(system("grep -q 'no overlap' tests/output/parDamBlocking3/log.pcisph"), 0);
 }
 
 static void test_ranks_times_threads(void **state)
@@ -187,18 +205,34 @@ static void test_density_and_tension_effects(void **state)
     same_output("parDropSerial", "parDrop2");
 }
 
-/* The rocking tank: the moving walls are placed by every rank alike. */
+/* The rocking tank to 0.3 s (6 degrees): each rank stores the boundary
+ * particles of its own and halo rows only and moves those; the walls
+ * carry some across the rows, and they migrate to their new owner with
+ * their density and pressure (without rebalancing: the walls alone). */
 static void test_moving_boundary(void **state)
 {
     (void)state;
     NEED_MPI();
-    const char *edit = "sed -i 's/^endTime .*/endTime 0.04;/; s/^writeInterval .*/writeInterval "
-                       "0.02;/' system/controlDict && echo 'numberOfThreads 1;' >> "
+    const char *edit = "sed -i 's/^endTime .*/endTime 0.3;/; s/^writeInterval .*/writeInterval "
+                       "0.1;/' system/controlDict && echo 'numberOfThreads 1;' >> "
                        "system/controlDict && sed -i 's/^particleSpacing .*/particleSpacing "
                        "0.025;/' constant/fluidProperties";
     assert_int_equal(run_np("tutorials/sloshingTank", "parSloshSerial", edit, 0), 0);
-    assert_int_equal(run_np("tutorials/sloshingTank", "parSlosh3", edit, 3), 0);
+    setenv("SLUICE_PARALLEL_REBALANCE", "10", 1);
+    int rc = run_np("tutorials/sloshingTank", "parSlosh3", edit, 3);
+    unsetenv("SLUICE_PARALLEL_REBALANCE");
+    assert_int_equal(rc, 0);
     same_output("parSloshSerial", "parSlosh3");
+    const char *log = "tests/output/parSlosh3/log.pcisph";
+    char cmd[1024];
+    /* "boundary particles stored per rank ... min A, max B of N; distributed D times, M
+     * changed owner": B < N, D > 0, M > 0 */
+    snprintf(cmd, sizeof cmd,
+             "grep -q 'parallel: 0 rebalances' %s && sed -En 's/.*boundary particles stored per "
+             "rank .* max ([0-9]+) of ([0-9]+) .*distributed ([0-9]+) times, ([0-9]+) changed "
+             "owner.*/\\1 \\2 \\3 \\4/p' %s | awk '{ exit !($1 < $2 && $3 > 0 && $4 > 0) }'",
+             log, log);
+    assert_int_equal(system(cmd), 0);
 }
 
 /* The filling: the emitter adds the same particles on every rank, and the

@@ -33,6 +33,7 @@
 #include "case/case_step.h"
 #include "case/case_record.h"
 #include "case/case_restart.h"
+#include "solver/pcs_relax.h"
 #include "core/sl_log.h"
 #include "core/sl_progress.h"
 #include "core/sl_threads.h"
@@ -148,7 +149,7 @@ static void print_world(const run *r, const char *dt_rule)
     sl_info("Case %s", c->dir);
     sl_info("  fluid particles     %zu", pcs_fluid_total(s));
     sl_info("  boundary particles  %zu (%zu shapes, method %s)",
-            c->boundary.n - c->boundary.nimages, c->nshapes, c->prm.method->name);
+            pcs_boundary_total(s) - c->boundary.nimages, c->nshapes, c->prm.method->name);
     if (c->prm.periodic.axes) {
         char ax[8];
         dom_periodic_axes_text(c->prm.periodic.axes, ax, sizeof ax);
@@ -619,9 +620,21 @@ static void summary_parallel(const run *r, double wall)
         sl_info("  parallel: domain mode: each rank stores its own particles and their halo only "
                 "(particles stored per rank at the last search: min %zu, max %zu of %zu; this "
                 "rank's mean %.0f, capacity %zu); halo received per rank min %zu, max %zu (this "
-                "rank's mean %.0f); boundary particles replicated (%zu)",
+                "rank's mean %.0f)",
                 dc.stored_min, dc.stored_max, pcs_fluid_total(&r->s), dc.stored_mean, dc.cap,
-                dc.halo_min, dc.halo_max, dc.halo_mean, r->s.b->n);
+                dc.halo_min, dc.halo_max, dc.halo_mean);
+        sl_info("  parallel: boundary particles stored per rank (own and halo rows) min %zu, max "
+                "%zu of %zu (this rank's mean %.0f); distributed %ld times, %ld changed owner",
+                dc.bstored_min, dc.bstored_max, dc.nb_global, dc.bstored_mean, dc.bdistributions,
+                dc.bmigrated);
+        if (dc.overlap)
+            sl_info("  parallel: overlap: %.0f %% of the own rows (the smallest share of a rank, "
+                    "mean over searches) read no halo value and are computed while x* and "
+                    "p/rho^2 travel",
+                    100 * dc.inner_share);
+        else
+            sl_info("  parallel: no overlap (SLUICE_PARALLEL_OVERLAP=0, or EFF_DENSITY effects): "
+                    "the halo exchanges block");
         sl_info("  parallel: %ld rebalances (largest imbalance max/mean %.3f); %ld gathers of the "
                 "state on rank 0 for output and function objects, %.2f s; resident memory per "
                 "rank at the end %.1f-%.1f MB",
@@ -690,6 +703,29 @@ static void summary(run *r)
             r->write_wall, stepping, stepping > 0 ? work / stepping : 0.0,
             stepping > 0 ? work / stepping / omp_get_max_threads() : 0.0, cpu,
             cpu > 0 ? work / cpu : 0.0);
+}
+
+/* initialPacking relaxed: the particles relaxed before t = 0
+ * (solver/pcs_relax.h), then the initial velocities at their new places. */
+static void relax(run *r)
+{
+    pcs_relax_stats rs;
+    const case_packing *k = &r->c.packing;
+    sl_info("%s: initialPacking relaxed: lattice displaced by up to %g r0, then %ld damped steps "
+            "of %g s (FIRE) before t = %g",
+            k->where.text, k->jitter, k->steps, r->s.dt, r->t);
+    pcs_relax(&r->s, k->steps, k->jitter, r->quiet ? 0 : 50, &rs);
+    case_initial_velocity(&r->c, r->s.f);
+    /* the run's phase timers and effect counts start after it (its own
+     * cost is the line below) */
+    memset(&r->s.time, 0, sizeof r->s.time);
+    for (size_t q = 0; q < r->c.effects.n; q++) {
+        r->c.effects.e[q].calls = 0;
+        r->c.effects.e[q].time = 0.0;
+    }
+    sl_info("Relaxed: largest displacement per step %.3g r0 (first), %.3g r0 (last); rho_err avg "
+            "%.3f%% max %.3f%%; %ld restarts from rest; %.2f s wall",
+            rs.move_first, rs.move_last, 100 * rs.err_avg, 100 * rs.err_max, rs.restarts, rs.wall);
 }
 
 static run *the_run; /* for the exit handler */
@@ -790,6 +826,7 @@ int main(int argc, char **argv)
     fo_list *fo = fo_read(&r.c);
     pcs_init(&r.s, &r.c.prm, &r.c.fluid, &r.c.boundary, r.c.lo, r.c.hi, r.ctl.dt, &r.c.effects);
     pcs_place_world(&r.s, r.t);
+    if (!restarted && r.c.packing.relaxed) relax(&r);
     if (restarted && hist_last(&r.hist)) /* domain mode: this rank's part of it */
         pcs_own_snapshot(&r.s, &hist_slot(&r.hist, 0)->snap);
     print_world(&r, rule);

@@ -42,6 +42,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Bytes per stored particle of the particle arrays (particles/particles.h):
+ * the fluid's 18 fields, its permutation scratch, id, cell and a uint32
+ * scratch; the boundary's 20 fields, its permutation scratch, body, id and
+ * a uint32 scratch.  The neighbour lists and the grid's cells come on top
+ * (the End summary of a run reports the resident memory). */
+#define FLUID_BYTES    (19 * 8 + 3 * 4)
+#define BOUNDARY_BYTES (21 * 8 + 3 * 4)
+
 static const app_option options[] = {APP_CASE,
                                      {.name = "np",
                                       .kind = APP_INT,
@@ -266,7 +274,8 @@ int main(int argc, char **argv)
     int *r_dom = sl_malloc((n + 1) * sizeof(int), "ranks");
     size_t *stored = sl_malloc(((size_t)p + 1) * sizeof *stored, "ranks");
     size_t *hstored = sl_malloc(((size_t)p + 1) * sizeof *hstored, "ranks");
-    pcd_partition(&s, p, r_dom, stored, hstored);
+    size_t *bstored = sl_malloc(((size_t)p + 1) * sizeof *bstored, "ranks");
+    pcd_partition(&s, p, r_dom, stored, hstored, bstored);
     uint32_t *idx = sl_malloc((n + 1) * sizeof *idx, "particles");
     rows(n, p, r_rows);
     for (size_t i = 0; i < n; i++) idx[i] = (uint32_t)i;
@@ -288,9 +297,14 @@ int main(int argc, char **argv)
            "particle;\nthe gather mode receives the rows of the others each iteration: "
            "'replicated'); domain,\nslabs and rcb: a domain decomposition exchanges only the halo "
            "(x* and p/rho^2 of the\nfluid within h: 'halo').\n");
-    size_t smin = (size_t)-1, smax = 0, hmin = (size_t)-1, hmax = 0;
-    double hsum = 0.0;
+    size_t smin = (size_t)-1, smax = 0, hmin = (size_t)-1, hmax = 0, bmin = (size_t)-1, bmax = 0;
+    double hsum = 0.0, mmin = HUGE_VAL, mmax = 0.0;
     for (int r = 0; r < p; r++) {
+        bmin = bstored[r] < bmin ? bstored[r] : bmin;
+        bmax = bstored[r] > bmax ? bstored[r] : bmax;
+        const double mem = (double)stored[r] * FLUID_BYTES + (double)bstored[r] * BOUNDARY_BYTES;
+        mmin = mem < mmin ? mem : mmin;
+        mmax = mem > mmax ? mem : mmax;
         smin = stored[r] < smin ? stored[r] : smin;
         smax = stored[r] > smax ? stored[r] : smax;
         hmin = hstored[r] < hmin ? hstored[r] : hmin;
@@ -302,10 +316,18 @@ int main(int argc, char **argv)
            "%zu,\nmax %zu of %zu; stored halo per rank min %zu, max %zu, mean %.0f (%.0f %% of the "
            "mean own count)\n",
            smin, smax, n, hmin, hmax, hsum / p, n ? 100.0 * hsum / (double)n : 0.0);
+    const size_t nb = s.b->n - s.b->nimages;
+    printf("boundary particles stored per rank (those of its own and halo rows) min %zu, max %zu "
+           "of %zu\n(%.0f-%.0f %%); particle arrays per rank %.2f-%.2f MB (%d B per fluid, %d B "
+           "per boundary\nparticle stored; the whole case in one process: %.2f MB)\n",
+           bmin, bmax, nb, nb ? 100.0 * (double)bmin / (double)nb : 0.0,
+           nb ? 100.0 * (double)bmax / (double)nb : 0.0, 1e-6 * mmin, 1e-6 * mmax, FLUID_BYTES,
+           BOUNDARY_BYTES, 1e-6 * ((double)n * FLUID_BYTES + (double)nb * BOUNDARY_BYTES));
     write_vtu(&c, &s, r_dom, r_rows, r_slabs, r_rcb);
     free(r_dom);
     free(stored);
     free(hstored);
+    free(bstored);
     free(r_rows);
     free(r_slabs);
     free(r_rcb);
