@@ -9,7 +9,8 @@
  *
  *     rho_i = m sum_j W(x_ij, h) + sum_b m_b W(x_ib, h),   m = rho0 r0^3,
  *
- * the cubic spline of the solver with h = 2 r0, and its compression
+ * the cubic spline of the solver with its support h (kernelSupport, 2 r0
+ * by default), and its compression
  * e_i = max(rho_i - rho0, 0) / rho0 (the solver's volErr of the end-of-step
  * positions).  The particles are split by their distance d to the nearest
  * wall surface into the near-wall band d < h and the bulk d >= h:
@@ -73,7 +74,7 @@ static const app_info info = {
     .name = "classifyCompression",
     .what = "Compression of the fluid.vtu of a time directory (default: the latest), with\n"
             "the wall's share from boundary.vtu (eq. 13 of Ihmsen et al. 2010, whatever\n"
-            "the run's boundary method), split into the band within h = 2 r0 of a wall\n"
+            "the run's boundary method), split into the band within h (2 r0) of a wall\n"
             "and the bulk; particles beyond a wall (penetrated), closer than r0/2 to it\n"
             "(pressed) and piled closer than r0/2 on another near the wall (stacked);\n"
             "p99 / median of the pressure near walls and in the bulk.",
@@ -114,8 +115,8 @@ static long cell_of(const grid *g, const double *p, int a)
     return c < 0 ? 0 : c >= g->dim[a] ? g->dim[a] - 1 : c;
 }
 
-static void grid_build(grid *g, const double *pts, size_t n, const double lo[3],
-                       const double hi[3], double h)
+static void grid_build(grid *g, const double *pts, size_t n, const double lo[3], const double hi[3],
+                       double h)
 {
     g->inv = 1.0 / h;
     size_t ncell = 1;
@@ -130,8 +131,8 @@ static void grid_build(grid *g, const double *pts, size_t n, const double lo[3],
     for (size_t i = 0; i < n; i++) {
         const double *p = &pts[3 * i];
         cell[i] = ((size_t)cell_of(g, p, 2) * (size_t)g->dim[1] + (size_t)cell_of(g, p, 1)) *
-                      (size_t)g->dim[0] +
-                  (size_t)cell_of(g, p, 0);
+                (size_t)g->dim[0] +
+            (size_t)cell_of(g, p, 0);
         g->start[cell[i] + 1]++;
     }
     for (size_t c = 0; c < ncell; c++) g->start[c + 1] += g->start[c];
@@ -192,7 +193,7 @@ static double ratio_of(double *v, size_t n)
     if (!n) return nan("");
     gsl_sort(v, 1, n);
     return gsl_stats_quantile_from_sorted_data(v, 1, n, 0.99) /
-           gsl_stats_median_from_sorted_data(v, 1, n);
+        gsl_stats_median_from_sorted_data(v, 1, n);
 }
 
 static classified classify(const sl_case *c, const char *dir, const char *tname,
@@ -213,9 +214,9 @@ static classified classify(const sl_case *c, const char *dir, const char *tname,
     if (!bm || bm->ncomp != 1)
         sl_fatal("%s: no scalar point array 'mass'", probe ? bpath : boundary0);
     if (!pr || pr->ncomp != 1) sl_fatal("%s: no scalar point array 'pressure'", fpath);
-    const double r0 = c->prm.r0, rho0 = c->prm.rho0, mass = pcs_mass(rho0, r0);
+    const double r0 = c->prm.r0, rho0 = c->prm.rho0, mass = pcs_mass(&c->prm);
     krn_kernel k;
-    krn_init(&k, pcs_support(r0));
+    krn_init(&k, pcs_support(&c->prm));
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t i = 0; i < f.npoints + b.npoints; i++) {
         const double *p = i < f.npoints ? &f.points[3 * i] : &b.points[3 * (i - f.npoints)];
@@ -241,7 +242,7 @@ static classified classify(const sl_case *c, const char *dir, const char *tname,
         const double *p = &f.points[3 * i];
         double rmin = INFINITY;
         double rho = grid_sum(&gf, f.points, NULL, mass, &k, p, i, &rmin) +
-                     grid_sum(&gb, b.points, bm->data, 0.0, &k, p, SIZE_MAX, NULL);
+            grid_sum(&gb, b.points, bm->data, 0.0, &k, p, SIZE_MAX, NULL);
         double e = rho > rho0 ? (rho - rho0) / rho0 : 0.0, d = wall_distance(c, p);
         sum += e;
         if (e > m.max) m.max = e;
@@ -322,19 +323,21 @@ int main(int argc, char **argv)
         afile af;
         FILE *t;
         if (tdir_mkdirs(out, &err) || !(t = afile_open(&af, path, &err))) sl_fatal("%s", err.msg);
-        fprintf(t, "# classifyCompression: compression (percent of rho0, wall share from the "
-                   "boundary particles) near walls (d < h = %g m) and in the bulk\n"
-                   "# Time\tcompressionAvg\tcompressionMax\tnearWall\tnearWallShare\tnearWallAvg"
-                   "\tnearWallP99\tbulkAvg\tbulkP99\tpenetrated\tpressed\tstacked"
-                   "\tnearWallPressureRatio\tbulkPressureRatio\n",
-                pcs_support(c.prm.r0));
+        fprintf(t,
+                "# classifyCompression: compression (percent of rho0, wall share from the "
+                "boundary particles) near walls (d < h = %g m) and in the bulk\n"
+                "# Time\tcompressionAvg\tcompressionMax\tnearWall\tnearWallShare\tnearWallAvg"
+                "\tnearWallP99\tbulkAvg\tbulkP99\tpenetrated\tpressed\tstacked"
+                "\tnearWallPressureRatio\tbulkPressureRatio\n",
+                pcs_support(&c.prm));
         classified worst = {.avg = -1.0};
         for (size_t k = 0; k < l.n; k++) {
             classified m = classify(&c, dir, l.name[k], b0);
-            fprintf(t, "%.9g\t%.6g\t%.6g\t%zu\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%zu\t%zu\t%zu\t%.6g\t%.6g\n",
-                    l.time[k], m.avg, m.max, m.near, m.near_share, m.near_avg, m.near_p99,
-                    m.bulk_avg, m.bulk_p99, m.penetrated, m.pressed, m.stacked, m.near_pratio,
-                    m.bulk_pratio);
+            fprintf(
+                t,
+                "%.9g\t%.6g\t%.6g\t%zu\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%zu\t%zu\t%zu\t%.6g\t%.6g\n",
+                l.time[k], m.avg, m.max, m.near, m.near_share, m.near_avg, m.near_p99, m.bulk_avg,
+                m.bulk_p99, m.penetrated, m.pressed, m.stacked, m.near_pratio, m.bulk_pratio);
             if (m.avg > worst.avg) worst = m;
         }
         if (afile_commit(&af, &err)) sl_fatal("%s", err.msg);
