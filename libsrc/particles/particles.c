@@ -139,6 +139,20 @@ void prt_boundary_reserve(sl_boundary *b, size_t cap)
     b->cap = cap;
 }
 
+void prt_boundary_copy(sl_boundary *dst, const sl_boundary *src)
+{
+    prt_boundary_init(dst);
+    prt_boundary_reserve(dst, src->n ? src->n : 1);
+    double **a[BOUNDARY_DOUBLES], **from[BOUNDARY_DOUBLES];
+    boundary_doubles(dst, a);
+    boundary_doubles((sl_boundary *)src, from);
+    for (int k = 0; k < BOUNDARY_DOUBLES; k++) memcpy(*a[k], *from[k], src->n * sizeof(double));
+    memcpy(dst->body, src->body, src->n * sizeof *dst->body);
+    memcpy(dst->id, src->id, src->n * sizeof *dst->id);
+    dst->n = src->n;
+    dst->nimages = src->nimages;
+}
+
 void prt_boundary_free(sl_boundary *b)
 {
     double **a[BOUNDARY_DOUBLES];

@@ -76,6 +76,8 @@ int prt_fluid_state_pairs(sl_fluid *f, double **state[PRT_STATE_PAIRS],
 void prt_boundary_init(sl_boundary *b);
 void prt_boundary_reserve(sl_boundary *b, size_t cap);
 void prt_boundary_free(sl_boundary *b);
+/* dst (uninitialised) becomes a deep copy of src's n particles. */
+void prt_boundary_copy(sl_boundary *dst, const sl_boundary *src);
 void prt_boundary_push(sl_boundary *b, double x, double y, double z, double nx, double ny,
                        double nz, uint32_t body);
 void prt_boundary_permute(sl_boundary *b, const uint32_t *perm);

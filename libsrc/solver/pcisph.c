@@ -575,11 +575,11 @@ void pcs_pass_pressure(pcs_solver *s) { s->passes->pressure(s); }
 
 /* The ranks of the job (one without -parallel) and room for the split;
  * the boundary's count does not change after set-up. */
-static void split_init(pcs_split *sp, size_t nb)
+static void split_init(pcs_split *sp, size_t nb, int one_rank)
 {
     memset(sp, 0, sizeof *sp);
-    sp->rank = par_rank();
-    sp->size = par_size();
+    sp->rank = one_rank ? 0 : par_rank();
+    sp->size = one_rank ? 1 : par_size();
     const size_t p = (size_t)sp->size + 1;
     sp->row = sl_malloc(p * sizeof *sp->row, "rank rows");
     sp->act = sl_malloc(p * sizeof *sp->act, "rank rows");
@@ -624,7 +624,7 @@ void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b, c
             if (effects->e[q].type->stage == EFF_DENSITY) s->dens[s->ndens++] = &effects->e[q];
     }
     for (size_t i = 0; i < f->n; i++) f->rho[i] = p->rho0; /* until the first pass */
-    split_init(&s->split, b->n);
+    split_init(&s->split, b->n, p->one_rank);
     s->split.halo = pcx_usable(s);
     if (s->split.halo && pcd_usable(s)) { /* every rank keeps its own particles only */
         s->split.domain = 1;

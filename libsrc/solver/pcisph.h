@@ -45,6 +45,8 @@ typedef struct pcs_params {
     const bnd_method_type *method; /* boundary handling (constant/boundaryProperties) */
     double restitution;            /* becker2009: delta of eq. (7) */
     dom_periodic periodic;         /* periodic axes and their period (axes 0: none) */
+    int one_rank; /* 1: a solver of one rank's whole case even under -parallel (the relaxed
+                   * packing, made alike on every rank before the split) */
 } pcs_params;
 
 /* The compiled defaults (equal to the annotated files of etc/caseDicts;

@@ -89,8 +89,8 @@ void pcs_relax(pcs_solver *s, long steps, double jitter, long every, pcs_relax_s
     sl_boundary *b = s->b;
     const double t0 = omp_get_wtime();
     if (s->split.domain || s->split.size > 1)
-        sl_fatal("initialPacking relaxed: not implemented with -parallel (run the case "
-                 "serially, or with initialPacking cubic)");
+        sl_fatal("pcs_relax: a solver of the whole case is needed (pcs_params.one_rank): "
+                 "the relaxation runs before the ranks split the case");
     memset(out, 0, sizeof *out);
     const size_t nb = b->n;
     double *bv = sl_malloc(3 * (nb ? nb : 1) * sizeof *bv, "wall velocities");

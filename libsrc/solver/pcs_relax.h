@@ -20,8 +20,10 @@
  * that holds a column up is what the settling gives).  The moving walls'
  * velocities are zero during it and restored after.
  *
- * Serial runs only (pcs_relax refuses -parallel).  The velocities are zero at the end: the caller sets the initial
- * ones at the relaxed positions (case_initial_velocity).
+ * On a solver of the whole case (pcs_params.one_rank: under -parallel
+ * every rank relaxes the whole case alike before the split).  The
+ * velocities are zero at the end: the caller sets the initial ones at the
+ * relaxed positions (case_initial_velocity).
  */
 #ifndef SL_PCS_RELAX_H
 #define SL_PCS_RELAX_H

@@ -342,6 +342,36 @@ static void test_periodic(void **state)
     same_output("parBoxSerial", "parBox2");
 }
 
+/* initialPacking relaxed: every rank relaxes the whole case alike before
+ * the split (solver/pcs_relax.h), so the runs start from the serial run's
+ * packing: the domain mode (damBreakShort, 3 ranks) and the halo mode of a
+ * periodic channel (2 ranks) write the serial files. */
+static void test_relaxed_packing(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    const char *dam_relaxed =
+        "sed -i 's/^endTime .*/endTime 0.02;/; s/^writeInterval .*/writeInterval 0.01;/; "
+        "s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict && "
+        "sed -i 's/^eta .*/&\\ninitialPacking { type relaxed; steps 20; }/' "
+        "constant/fluidProperties";
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parRelaxSerial", dam_relaxed, 0), 0);
+    assert_int_equal(system("grep -q '^Relaxed: ' tests/output/parRelaxSerial/log.pcisph"), 0);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parRelax3", dam_relaxed, 3), 0);
+    same_output("parRelaxSerial", "parRelax3");
+    assert_int_equal(system("grep -q 'domain mode' tests/output/parRelax3/log.pcisph"), 0);
+    const char *channel_relaxed =
+        "sed -i 's/^endTime .*/endTime 0.1;/; s/^writeInterval .*/writeInterval 0.05;/; "
+        "s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict && "
+        "sed -i 's/^eta .*/&\\ninitialPacking { type relaxed; steps 20; }/' "
+        "constant/fluidProperties";
+    assert_int_equal(
+        run_np("tests/cases/periodicChannel", "parRelaxChannelSerial", channel_relaxed, 0), 0);
+    assert_int_equal(run_np("tests/cases/periodicChannel", "parRelaxChannel2", channel_relaxed, 2),
+                     0);
+    same_output("parRelaxChannelSerial", "parRelaxChannel2");
+}
+
 /* mpirun without -parallel would run the case N times over itself: refused. */
 static void test_mpirun_without_parallel(void **state)
 {
@@ -397,6 +427,7 @@ int main(void)
         cmocka_unit_test(test_domain_migration_rebalance),
         cmocka_unit_test(test_restart_2_then_3),
         cmocka_unit_test(test_periodic),
+        cmocka_unit_test(test_relaxed_packing),
         cmocka_unit_test(test_mpirun_without_parallel),
         cmocka_unit_test(test_decompose_case),
     };

@@ -706,19 +706,32 @@ static void summary(run *r)
 }
 
 /* initialPacking relaxed: the particles relaxed before t = 0
- * (solver/pcs_relax.h), then the initial velocities at their new places. */
+ * (solver/pcs_relax.h), then the initial velocities at their new places.
+ * The relaxation runs before the run's solver exists, on a solver of the
+ * whole case (one rank's, with a copy of the boundary), so that under
+ * -parallel every rank makes the serial run's packing (each holds the
+ * whole case until its solver keeps its part) and the run then starts from
+ * it as the serial run does. */
 static void relax(run *r)
 {
     pcs_relax_stats rs;
     const case_packing *k = &r->c.packing;
     sl_info("%s: initialPacking relaxed: lattice displaced by up to %g r0, then %ld damped steps "
             "of %g s (FIRE) before t = %g",
-            k->where.text, k->jitter, k->steps, r->s.dt, r->t);
-    pcs_relax(&r->s, k->steps, k->jitter, r->quiet ? 0 : 50, &rs);
-    case_initial_velocity(&r->c, r->s.f);
-    /* the run's phase timers and effect counts start after it (its own
-     * cost is the line below) */
-    memset(&r->s.time, 0, sizeof r->s.time);
+            k->where.text, k->jitter, k->steps, r->ctl.dt, r->t);
+    pcs_params prm = r->c.prm;
+    prm.one_rank = 1;
+    sl_boundary walls;
+    prt_boundary_copy(&walls, &r->c.boundary);
+    pcs_solver s;
+    pcs_init(&s, &prm, &r->c.fluid, &walls, r->c.lo, r->c.hi, r->ctl.dt, &r->c.effects);
+    pcs_place_world(&s, r->t);
+    pcs_relax(&s, k->steps, k->jitter, r->quiet ? 0 : 50, &rs);
+    pcs_free(&s);
+    prt_boundary_free(&walls);
+    case_initial_velocity(&r->c, &r->c.fluid);
+    /* the run's effect counts start after it (its own cost is the line
+     * below) */
     for (size_t q = 0; q < r->c.effects.n; q++) {
         r->c.effects.e[q].calls = 0;
         r->c.effects.e[q].time = 0.0;
@@ -824,9 +837,9 @@ int main(int argc, char **argv)
     r.session.t_first = r.t;
     r.session.sessions = 1;
     fo_list *fo = fo_read(&r.c);
+    if (!restarted && r.c.packing.relaxed) relax(&r);
     pcs_init(&r.s, &r.c.prm, &r.c.fluid, &r.c.boundary, r.c.lo, r.c.hi, r.ctl.dt, &r.c.effects);
     pcs_place_world(&r.s, r.t);
-    if (!restarted && r.c.packing.relaxed) relax(&r);
     if (restarted && hist_last(&r.hist)) /* domain mode: this rank's part of it */
         pcs_own_snapshot(&r.s, &hist_slot(&r.hist, 0)->snap);
     print_world(&r, rule);
