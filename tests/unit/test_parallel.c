@@ -396,6 +396,17 @@ static void test_decompose_case(void **state)
     assert_int_equal(system("grep -q rcbRank "
                             "tests/output/parDecompose/postProcessing/decomposeCase/fluid.vtu"),
                      0);
+    /* the boundary particles each rank stores: fewer than the case holds,
+     * and those the run on 3 ranks stored (static walls, never
+     * redistributed: test_dam_break_np123's parDam3) */
+    assert_int_equal(
+        system("sed -En 's/^boundary particles stored per rank .* min ([0-9]+), max ([0-9]+) of "
+               "([0-9]+).*/\\1 \\2 \\3/p' tests/output/parDecompose/log.decomposeCase > "
+               "tests/output/parDecompose/b.dec && awk '{ exit !($2 < $3) }' "
+               "tests/output/parDecompose/b.dec && sed -En 's/.*boundary particles stored per "
+               "rank .* min ([0-9]+), max ([0-9]+) of ([0-9]+) .*/\\1 \\2 \\3/p' "
+               "tests/output/parDam3/log.pcisph | cmp -s - tests/output/parDecompose/b.dec"),
+        0);
 }
 
 int main(void)
