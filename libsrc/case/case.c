@@ -156,9 +156,17 @@ static void read_timestep(sl_case *c)
 
 /* The keys of constant/fluidProperties besides the effects' own entries
  * (effects/: eff_fluid_effects). */
-static const char *const fluid_keys[] = {"rho0",         "particleSpacing", "gravity",
-                                         "eta",          "minIterations",   "maxIterations",
-                                         "fluidRegions", "emitters",        NULL};
+static const char *const fluid_keys[] = {"rho0",
+                                         "particleSpacing",
+                                         "gravity",
+                                         "eta",
+                                         "minIterations",
+                                         "maxIterations",
+                                         "fluidRegions",
+                                         "emitters",
+                                         "initialPacking",
+                                         "kernelSupport",
+                                         NULL};
 
 /* fluid_keys and the names of the effects of constant/fluidProperties. */
 static const char **fluid_and_effect_keys(void)
@@ -209,27 +217,56 @@ static void read_velocity_field(const dict *r, case_region *g)
         dict_fatal(v, "type", "standingWave needs a region of type box");
 }
 
-/* Add region g's velocity field to fluid particles [from, n). */
-static void apply_velocity_field(const case_region *g, const double gravity[3], sl_fluid *f,
-                                 size_t from)
+/* Region g's velocity field at (x, y, z), added to v. */
+static void field_at(const case_region *g, const double gravity[3], double x, double y, double z,
+                     double v[3])
 {
     const double pi = 3.14159265358979323846, A = g->field_amplitude;
     if (g->field == CASE_FIELD_TAYLOR_GREEN) {
         const double k = 2.0 * pi / g->field_length;
-        for (size_t i = from; i < f->n; i++) {
-            f->vx[i] += A * sin(k * f->x[i]) * cos(k * f->y[i]);
-            f->vy[i] -= A * cos(k * f->x[i]) * sin(k * f->y[i]);
-        }
+        v[0] += A * sin(k * x) * cos(k * y);
+        v[1] -= A * cos(k * x) * sin(k * y);
     } else if (g->field == CASE_FIELD_STANDING_WAVE) {
         const double k = pi / g->field_length, H = g->shape.hi[2] - g->shape.lo[2];
         const double gm =
             sqrt(gravity[0] * gravity[0] + gravity[1] * gravity[1] + gravity[2] * gravity[2]);
         const double w = sqrt(gm * k * tanh(k * H)), c = A * w / sinh(k * H);
-        for (size_t i = from; i < f->n; i++) {
-            const double x = f->x[i] - g->shape.lo[0], z = f->z[i] - g->shape.lo[2];
-            f->vx[i] -= c * cosh(k * z) * sin(k * x);
-            f->vz[i] += c * sinh(k * z) * cos(k * x);
+        const double xr = x - g->shape.lo[0], zr = z - g->shape.lo[2];
+        v[0] -= c * cosh(k * zr) * sin(k * xr);
+        v[2] += c * sinh(k * zr) * cos(k * xr);
+    }
+}
+
+/* Add region g's velocity field to fluid particles [from, n). */
+static void apply_velocity_field(const case_region *g, const double gravity[3], sl_fluid *f,
+                                 size_t from)
+{
+    if (g->field == CASE_FIELD_NONE) return;
+    for (size_t i = from; i < f->n; i++) {
+        double v[3] = {f->vx[i], f->vy[i], f->vz[i]};
+        field_at(g, gravity, f->x[i], f->y[i], f->z[i], v);
+        f->vx[i] = v[0];
+        f->vy[i] = v[1];
+        f->vz[i] = v[2];
+    }
+}
+
+void case_initial_velocity(const sl_case *c, sl_fluid *f)
+{
+    for (size_t i = 0; i < f->n; i++) {
+        const case_region *g = NULL;
+        for (size_t r = 0; r < c->nregions && !g; r++)
+            if (f->id[i] >= c->regions[r].id0 && f->id[i] < c->regions[r].id1) g = &c->regions[r];
+        double v[3] = {0, 0, 0};
+        if (g) {
+            v[0] = g->velocity[0];
+            v[1] = g->velocity[1];
+            v[2] = g->velocity[2];
+            field_at(g, c->prm.gravity, f->x[i], f->y[i], f->z[i], v);
         }
+        f->vx[i] = v[0];
+        f->vy[i] = v[1];
+        f->vz[i] = v[2];
     }
 }
 
@@ -316,6 +353,40 @@ static void read_emitter(sl_case *c, const dict *e, const dict_entry *at)
                   "the opening holds no particle at this particleSpacing");
 }
 
+/* initialPacking cubic | relaxed | { type relaxed; steps ..; jitter ..; } */
+static void read_packing(sl_case *c, const dict *d)
+{
+    static const char *const types[] = {"cubic", "relaxed", NULL};
+    static const char *const keys[] = {"type", "steps", "jitter", NULL};
+    case_packing *k = &c->packing;
+    sl_err err;
+    const char *w;
+    long l;
+    k->steps = CASE_RELAX_STEPS;
+    k->jitter = CASE_RELAX_JITTER;
+    if (!dict_has(d, "initialPacking")) return;
+    set_where(&k->where, dict_lookup(d, "initialPacking"));
+    const dict *p = dict_sub(d, "initialPacking");
+    if (!p) {
+        if (dict_get_word(d, "initialPacking", &w, &err))
+            bad_value(d, "initialPacking",
+                      "must be cubic, relaxed or { type relaxed; steps ..; jitter ..; }");
+        k->relaxed = choose(d, "initialPacking", w, types);
+        return;
+    }
+    dict_warn_unknown(p, keys);
+    need(dict_get_word(p, "type", &w, &err), &err);
+    k->relaxed = choose(p, "type", w, types);
+    need(dict_get_int_or(p, "steps", CASE_RELAX_STEPS, &l, &err), &err);
+    if (l < 1 || l > 100000) bad_value(p, "steps", "must be between 1 and 100000 (default 300)");
+    k->steps = l;
+    need(dict_get_scalar_or(p, "jitter", CASE_RELAX_JITTER, &k->jitter, &err), &err);
+    if (!(k->jitter >= 0.0 && k->jitter <= 0.3))
+        bad_value(p, "jitter",
+                  "must be a fraction of particleSpacing between 0 and 0.3 (default 0.1): a "
+                  "particle must stay inside its cube of the lattice, r0 / 2 from the walls");
+}
+
 static void read_fluid(sl_case *c)
 {
     static const double g0[3] = {0, 0, -9.81};
@@ -332,6 +403,11 @@ static void read_fluid(sl_case *c)
         bad_value(d, "rho0", "must be a liquid's rest density in kg/m^3 (between 1e-3 and 1e5)");
     need(dict_get_scalar(d, "particleSpacing", &p->r0, &err), &err);
     positive(d, "particleSpacing", p->r0);
+    need(dict_get_scalar_or(d, "kernelSupport", 2.0, &p->support, &err), &err);
+    if (!(p->support >= 2.0 && p->support <= 4.0))
+        bad_value(d, "kernelSupport",
+                  "must be the kernel's support radius in particle spacings, between 2 (the "
+                  "paper's) and 4");
     need(dict_get_vector_or(d, "gravity", g0, p->gravity, &err), &err);
     double gn = sqrt(p->gravity[0] * p->gravity[0] + p->gravity[1] * p->gravity[1] +
                      p->gravity[2] * p->gravity[2]);
@@ -363,7 +439,7 @@ static void read_fluid(sl_case *c)
     /* the effects of the fluid, in the order they act: gravity first */
     void *g = eff_gravity_new(p->gravity);
     if (g) eff_add(&c->effects, &eff_gravity, g);
-    const eff_setup su = {p->r0, pcs_support(p->r0), p->rho0, p->gravity};
+    const eff_setup su = {p->r0, pcs_support(p), p->rho0, p->gravity};
     eff_read_fluid(&c->effects, d, &su);
     if (dict_has(d, "emitters")) {
         const dict *em = dict_sub(d, "emitters");
@@ -376,6 +452,7 @@ static void read_fluid(sl_case *c)
             read_emitter(c, dict_entry_dict(e), e);
         }
     }
+    read_packing(c, d);
     const dict *regions = dict_sub(d, "fluidRegions");
     if (!regions && c->nemitters == 0)
         bad_value(d, "fluidRegions", "a dictionary of fluid regions (or emitters) is required");
@@ -965,6 +1042,8 @@ void case_build(sl_case *c)
                      c->dir, g->name, r0);
         check_overlap(c, r, from);
         apply_velocity_field(g, c->prm.gravity, &c->fluid, from);
+        c->regions[r].id0 = (uint32_t)from;
+        c->regions[r].id1 = (uint32_t)c->fluid.n;
         double lo[3], hi[3];
         geo_bounds(&g->shape, r0, lo, hi);
         grow_bounds(c->lo, c->hi, lo, hi);
@@ -985,13 +1064,13 @@ void case_build(sl_case *c)
         sl_fatal("%s: too many particles (%zu fluid, %zu boundary)", c->dir, c->fluid.n,
                  c->boundary.n);
     for (int k = 0; k < 3; k++) {
-        c->lo[k] -= 2 * r0;
-        c->hi[k] += 2 * r0;
+        c->lo[k] -= pcs_support(&c->prm);
+        c->hi[k] += pcs_support(&c->prm);
     }
     for (int k = 0; k < 3; k++) /* room for the periodic images (h beyond the faces) */
         if (c->prm.periodic.axes & (1u << k)) {
-            c->lo[k] = fmin(c->lo[k], c->prm.periodic.lo[k] - 3 * r0);
-            c->hi[k] = fmax(c->hi[k], c->prm.periodic.hi[k] + 3 * r0);
+            c->lo[k] = fmin(c->lo[k], c->prm.periodic.lo[k] - pcs_support(&c->prm) - r0);
+            c->hi[k] = fmax(c->hi[k], c->prm.periodic.hi[k] + pcs_support(&c->prm) + r0);
         }
     void *emit = eff_emitter_new(c->emitters, c->nemitters, (uint32_t)c->fluid.n);
     if (emit) eff_add(&c->effects, &eff_emitter, emit);

@@ -17,6 +17,7 @@
 #define SL_CASE_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "dictionary/dict.h"
 #include "geometry/geometry.h"
@@ -52,7 +53,25 @@ typedef struct case_region {
      * added to velocity (verification cases, doc/verification.md) */
     int field; /* CASE_FIELD_* */
     double field_amplitude, field_length;
+    uint32_t id0, id1; /* its particles' ids at t = 0: [id0, id1) (case_build) */
 } case_region;
+
+/* initialPacking (constant/fluidProperties): the particles start on the
+ * cubic lattice they are built on, or relaxed on it before t = 0
+ * (solver/pcs_relax.h: the lattice displaced by up to jitter r0, then
+ * steps damped steps of the case's own forces and pressure solve, the
+ * velocity zeroed before each; then the regions' initial velocities at the
+ * relaxed positions, case_initial_velocity). */
+typedef struct case_packing {
+    int relaxed;
+    long steps;
+    double jitter; /* fraction of r0 */
+    case_where where;
+} case_packing;
+
+/* initialPacking's compiled defaults (etc/caseDicts/fluidProperties) */
+#define CASE_RELAX_STEPS  300
+#define CASE_RELAX_JITTER 0.1
 
 enum { CASE_FIELD_NONE, CASE_FIELD_TAYLOR_GREEN, CASE_FIELD_STANDING_WAVE };
 
@@ -67,6 +86,7 @@ typedef struct sl_case {
     size_t nshapes;
     case_region *regions;
     size_t nregions;
+    case_packing packing;
     emt_emitter *emitters;     /* constant/fluidProperties: emitters { } */
     case_where *emitter_where; /* of each emitter's entry */
     size_t nemitters;
@@ -82,6 +102,10 @@ void case_read(sl_case *c, const char *dir);
  * scene is empty or impossible. */
 void case_build(sl_case *c);
 void case_free(sl_case *c);
+/* The initial velocity of each fluid particle at its present position: its
+ * region's velocity and velocityField (by the particle's id, any order),
+ * after a relaxed initialPacking moved the particles off the lattice. */
+void case_initial_velocity(const sl_case *c, sl_fluid *f);
 /* The top-level keys of each case file ("system/controlDict", ...; ends
  * with where == NULL), for messages about misplaced or misspelt keys. */
 const dict_key_home *case_key_homes(void);

@@ -38,13 +38,13 @@ double case_initial_step(const sl_case *c, char *rule, size_t len)
             v2 = c->emitters[e].speed * c->emitters[e].speed;
     const double *g = c->prm.gravity;
     double dt =
-        ts_initial(&c->ts, pcs_support(c->prm.r0), sqrt(v2),
+        ts_initial(&c->ts, pcs_support(&c->prm), sqrt(v2),
                    sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]), fluid_height(c), rule, len);
     if (c->ts.mode == TS_ADAPTIVE && !(c->ts.delta_t > 0.0)) {
         krn_kernel k;
-        const double m = pcs_mass(c->prm.rho0, c->prm.r0), H = fluid_height(c);
+        const double m = pcs_mass(&c->prm), H = fluid_height(c);
         const double gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-        krn_init(&k, pcs_support(c->prm.r0));
+        krn_init(&k, pcs_support(&c->prm));
         double dtp = ts_initial_pressure(c->prm.eta, c->ts.iterations,
                                          pcs_delta(&k, c->prm.r0, m, c->prm.rho0, 1.0), gn, H);
         if (dtp < dt && dtp >= c->ts.delta_t_min) {

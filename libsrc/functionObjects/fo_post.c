@@ -154,8 +154,8 @@ int fo_snapshot_load(fo_snapshot *sn, const sl_case *c, const char *tname, unsig
     v->r0 = c->prm.r0;
     v->rho0 = c->prm.rho0;
     v->gravity = c->prm.gravity;
-    v->h = pcs_support(c->prm.r0);
-    v->mass = pcs_mass(c->prm.rho0, c->prm.r0);
+    v->h = pcs_support(&c->prm);
+    v->mass = pcs_mass(&c->prm);
     v->periodic = c->prm.periodic.axes ? &c->prm.periodic : NULL;
     v->boundary_images = 0; /* boundary.vtu holds the real particles only */
     krn_init(&v->k, v->h);

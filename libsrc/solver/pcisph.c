@@ -33,6 +33,22 @@ void pcs_params_default(pcs_params *p)
     p->epsilon = 1.0;
     p->method = &ihmsen2010_method;
     p->restitution = 0.0;
+    p->support = 2.0;
+}
+
+double pcs_mass(const pcs_params *p)
+{
+    const double r0 = p->r0;
+    if (p->support == 2.0) return p->rho0 * r0 * r0 * r0;
+    krn_kernel k;
+    krn_init(&k, pcs_support(p));
+    const int reach = (int)ceil(p->support) + 1;
+    double sum = 0.0;
+    for (int i = -reach; i <= reach; i++)
+        for (int j = -reach; j <= reach; j++)
+            for (int l = -reach; l <= reach; l++)
+                sum += krn_w(&k, r0 * sqrt((double)(i * i + j * j + l * l)));
+    return p->rho0 / sum;
 }
 
 double pcs_delta(const krn_kernel *k, double r0, double mass, double rho0, double dt)
@@ -578,8 +594,8 @@ void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b, c
 {
     memset(s, 0, sizeof *s);
     s->prm = *p;
-    s->h = pcs_support(p->r0);
-    s->mass = pcs_mass(p->rho0, p->r0);
+    s->h = pcs_support(p);
+    s->mass = pcs_mass(p);
     s->eta_abs = p->eta * p->rho0;
     s->f = f;
     s->b = b;
@@ -958,6 +974,17 @@ void pcs_step(pcs_solver *s, pcs_stats *st)
     PHASE(s, integrate, integrate(s, st));    /* v, x (Euler-Cromer); eq. (9)-(12) */
     dom_after_integrate(&s->halo, s->f);      /* periodic: x wrapped, images dropped */
     s->t += s->dt;
+}
+
+void pcs_step_in_place(pcs_solver *s, pcs_stats *st)
+{
+    memset(st, 0, sizeof *st);
+    ensure_scratch(s);
+    PHASE(s, search, pcs_find_neighbours(s));
+    PHASE(s, forces, compute_forces(s));
+    pressure_solve(s, st);
+    PHASE(s, integrate, integrate(s, st));
+    dom_after_integrate(&s->halo, s->f);
 }
 
 void pcs_post_step(pcs_solver *s, double t, double dt)

@@ -32,8 +32,9 @@
 #include "particles/particles.h"
 
 typedef struct pcs_params {
-    double rho0; /* rest density */
-    double r0;   /* particle spacing; h = 2 r0 */
+    double rho0;    /* rest density */
+    double r0;      /* particle spacing */
+    double support; /* the kernel's support radius over r0 (kernelSupport; the paper's 2) */
     double gravity[3];
     double eta; /* tolerated density error, fraction of rho0 (0.01 = 1 %) */
     int min_iter, max_iter;
@@ -50,10 +51,15 @@ typedef struct pcs_params {
  * rho0 and r0, which a case must give, are 0). */
 void pcs_params_default(pcs_params *p);
 
-/* The support radius and the particle mass of a case: h = 2 r0 and
- * m = rho0 r0^3 (a fluid particle fills its cube of the lattice). */
-static inline double pcs_support(double r0) { return 2.0 * r0; }
-static inline double pcs_mass(double rho0, double r0) { return rho0 * r0 * r0 * r0; }
+/* The support radius and the particle mass of a case: h = support r0
+ * (2 r0 in the paper, Sec. 3.2) and m = rho0 r0^3 (a fluid particle fills
+ * its cube of the lattice; there the lattice's summation density is
+ * 0.99997 rho0).  A wider support's kernel sum over the cubic lattice is
+ * up to 0.2 % above 1 / r0^3 (h = 3 r0: 1.0018), which a closed periodic
+ * box could never relieve: there m = rho0 over that sum, so that the
+ * lattice is at rest density. */
+static inline double pcs_support(const pcs_params *p) { return p->support * p->r0; }
+double pcs_mass(const pcs_params *p);
 
 /* What one step did (logged every step). Errors are fractions of rho0. */
 typedef struct pcs_stats {
@@ -193,6 +199,9 @@ void pcs_set_dt(pcs_solver *s, double dt);
 void pcs_place_world(pcs_solver *s, double t);
 /* Advance by s->dt from time s->t (s->t is advanced too). */
 void pcs_step(pcs_solver *s, pcs_stats *st);
+/* pcs_step with the world held where pcs_place_world put it (no moving
+ * body moves) and s->t kept: the pseudo-time step of solver/pcs_relax.h. */
+void pcs_step_in_place(pcs_solver *s, pcs_stats *st);
 /* After a step from t to t + dt was accepted: the post-step effects
  * (emitters). */
 void pcs_post_step(pcs_solver *s, double t, double dt);

@@ -99,7 +99,7 @@ static smooth measure(const sl_case *c, const char *vtu)
     vtkr_file f;
     sl_err err;
     smooth m = {0};
-    const double r0 = c->prm.r0, h = pcs_support(r0);
+    const double r0 = c->prm.r0, h = pcs_support(&c->prm);
     /* a particle put exactly at the contact distance by a position
      * correction (becker2009, harada2007) touches the wall: only the
      * rounding of that correction is forgiven */
