@@ -36,10 +36,9 @@ void pcs_params_default(pcs_params *p)
     p->support = 2.0;
 }
 
-double pcs_mass(const pcs_params *p)
+double pcs_mass_lattice(const pcs_params *p)
 {
     const double r0 = p->r0;
-    if (p->support == 2.0) return p->rho0 * r0 * r0 * r0;
     krn_kernel k;
     krn_init(&k, pcs_support(p));
     const int reach = (int)ceil(p->support) + 1;

@@ -59,7 +59,16 @@ void pcs_params_default(pcs_params *p);
  * box could never relieve: there m = rho0 over that sum, so that the
  * lattice is at rest density. */
 static inline double pcs_support(const pcs_params *p) { return p->support * p->r0; }
-double pcs_mass(const pcs_params *p);
+double pcs_mass_lattice(const pcs_params *p);
+/* r0^3 first, then rho0: the solver's order before kernelSupport, kept to
+ * the last bit (volatile: -fassociative-math could reorder the product,
+ * and a chaotic run follows the last bit of the mass) */
+static inline double pcs_mass(const pcs_params *p)
+{
+    if (p->support != 2.0) return pcs_mass_lattice(p);
+    volatile double r3 = p->r0 * p->r0 * p->r0;
+    return p->rho0 * r3;
+}
 
 /* What one step did (logged every step). Errors are fractions of rho0. */
 typedef struct pcs_stats {
