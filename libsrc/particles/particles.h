@@ -56,6 +56,13 @@ typedef struct sl_boundary {
     size_t scratch_cap;
 } sl_boundary;
 
+/* Bytes per particle of the arrays above (for memory reports): the
+ * fluid's 18 fields, its permutation scratch, id, cell and a uint32
+ * scratch; the boundary's 20 fields, its permutation scratch, body, id and
+ * a uint32 scratch. */
+#define PRT_FLUID_BYTES    (19 * 8 + 3 * 4)
+#define PRT_BOUNDARY_BYTES (21 * 8 + 3 * 4)
+
 void prt_fluid_init(sl_fluid *f);
 void prt_fluid_reserve(sl_fluid *f, size_t cap);
 void prt_fluid_free(sl_fluid *f);

@@ -1444,6 +1444,11 @@ pcd_counts pcd_counters(const pcs_solver *s)
     const double mem = rss_now();
     c.mem_max = par_max_double(mem);
     c.mem_min = -par_max_double(-mem);
+    const nbr_list *ls[3] = {&s->ff, &s->fb, &s->bf};
+    double arrays = (double)s->f->cap * PRT_FLUID_BYTES + (double)s->b->cap * PRT_BOUNDARY_BYTES;
+    for (int k = 0; k < 3; k++) arrays += 4.0 * (double)(ls[k]->rows_cap + ls[k]->idx_cap);
+    c.arrays_max = par_max_double(arrays);
+    c.arrays_min = -par_max_double(-arrays);
     c.migrated_up = par_sum_long(c.migrated_up);
     c.migrated_down = par_sum_long(c.migrated_down);
     c.bstored_max = (size_t)par_max_double((double)s->b->n);

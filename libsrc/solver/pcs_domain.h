@@ -112,6 +112,9 @@ typedef struct pcd_counts {
     double imbalance_max;                              /* largest max/mean of a search */
     double gather_seconds;
     double mem_min, mem_max; /* resident bytes at the end, over the ranks */
+    /* bytes of the particle arrays (capacities) and neighbour lists at the
+     * end, over the ranks */
+    double arrays_min, arrays_max;
     /* boundary particles: stored per rank at the last distribution (own +
      * halo rows), this rank's mean over searches, of nb_global; how often
      * they were distributed (walls moving, cuts moved) and how many changed

@@ -208,13 +208,16 @@ static void test_density_and_tension_effects(void **state)
 /* The rocking tank to 0.3 s (6 degrees): each rank stores the boundary
  * particles of its own and halo rows only and moves those; the walls
  * carry some across the rows, and they migrate to their new owner with
- * their density and pressure (without rebalancing: the walls alone). */
+ * their density and pressure (without rebalancing: the walls alone).
+ * Restart files written at 0.15 s by 2 ranks, continued on 3 (the walls
+ * placed at 0.15 s on every rank's share, then distributed): the serial
+ * files at 0.3 s. */
 static void test_moving_boundary(void **state)
 {
     (void)state;
     NEED_MPI();
     const char *edit = "sed -i 's/^endTime .*/endTime 0.3;/; s/^writeInterval .*/writeInterval "
-                       "0.1;/' system/controlDict && echo 'numberOfThreads 1;' >> "
+                       "0.15;/' system/controlDict && echo 'numberOfThreads 1;' >> "
                        "system/controlDict && sed -i 's/^particleSpacing .*/particleSpacing "
                        "0.025;/' constant/fluidProperties";
     assert_int_equal(run_np("tutorials/sloshingTank", "parSloshSerial", edit, 0), 0);
@@ -232,6 +235,19 @@ static void test_moving_boundary(void **state)
              "rank .* max ([0-9]+) of ([0-9]+) .*distributed ([0-9]+) times, ([0-9]+) changed "
              "owner.*/\\1 \\2 \\3 \\4/p' %s | awk '{ exit !($1 < $2 && $3 > 0 && $4 > 0) }'",
              log, log);
+    assert_int_equal(system(cmd), 0);
+    char first[1024];
+    snprintf(first, sizeof first, "%s && sed -i 's/^endTime .*/endTime 0.15;/' system/controlDict",
+             edit);
+    assert_int_equal(run_np("tutorials/sloshingTank", "parSloshRestart", first, 2), 0);
+    snprintf(cmd, sizeof cmd,
+             "cd tests/output/parSloshRestart && sed -i 's/^endTime .*/endTime 0.3;/; "
+             "s/^startFrom .*/startFrom latestTime;/' system/controlDict && "
+             "SLUICE_PARALLEL_REBALANCE=10 " MPIRUN "-np 3 %s/pcisph -case . -quiet -parallel "
+             "> log.restart 2>&1 && grep -q 'Restarting from' log.restart && cd .. && "
+             "cmp parSloshSerial/0.3/fluid.vtu parSloshRestart/0.3/fluid.vtu && "
+             "cmp parSloshSerial/0.3/boundary.vtu parSloshRestart/0.3/boundary.vtu",
+             bin_dir());
     assert_int_equal(system(cmd), 0);
 }
 
@@ -380,6 +396,17 @@ static void test_decompose_case(void **state)
     assert_int_equal(system("grep -q rcbRank "
                             "tests/output/parDecompose/postProcessing/decomposeCase/fluid.vtu"),
                      0);
+    /* the boundary particles each rank stores: fewer than the case holds,
+     * and those the run on 3 ranks stored (static walls, never
+     * redistributed: test_dam_break_np123's parDam3) */
+    assert_int_equal(
+        system("sed -En 's/^boundary particles stored per rank .* min ([0-9]+), max ([0-9]+) of "
+               "([0-9]+).*/\\1 \\2 \\3/p' tests/output/parDecompose/log.decomposeCase > "
+               "tests/output/parDecompose/b.dec && awk '{ exit !($2 < $3) }' "
+               "tests/output/parDecompose/b.dec && sed -En 's/.*boundary particles stored per "
+               "rank .* min ([0-9]+), max ([0-9]+) of ([0-9]+) .*/\\1 \\2 \\3/p' "
+               "tests/output/parDam3/log.pcisph | cmp -s - tests/output/parDecompose/b.dec"),
+        0);
 }
 
 int main(void)

@@ -637,9 +637,9 @@ static void summary_parallel(const run *r, double wall)
                     "the halo exchanges block");
         sl_info("  parallel: %ld rebalances (largest imbalance max/mean %.3f); %ld gathers of the "
                 "state on rank 0 for output and function objects, %.2f s; resident memory per "
-                "rank at the end %.1f-%.1f MB",
+                "rank at the end %.1f-%.1f MB (particle arrays and neighbour lists %.1f-%.1f MB)",
                 dc.rebalances, dc.imbalance_max, dc.gathers, dc.gather_seconds, 1e-6 * dc.mem_min,
-                1e-6 * dc.mem_max);
+                1e-6 * dc.mem_max, 1e-6 * dc.arrays_min, 1e-6 * dc.arrays_max);
     }
     if (sp->size == 1) sl_info("  parallel: one rank, nothing exchanged");
     else if (sp->domain)

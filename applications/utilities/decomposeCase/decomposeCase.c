@@ -42,13 +42,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Bytes per stored particle of the particle arrays (particles/particles.h):
- * the fluid's 18 fields, its permutation scratch, id, cell and a uint32
- * scratch; the boundary's 20 fields, its permutation scratch, body, id and
- * a uint32 scratch.  The neighbour lists and the grid's cells come on top
- * (the End summary of a run reports the resident memory). */
-#define FLUID_BYTES    (19 * 8 + 3 * 4)
-#define BOUNDARY_BYTES (21 * 8 + 3 * 4)
+/* Bytes per stored particle of the particle arrays (particles.h); the
+ * neighbour lists and the grid's cells come on top (the End summary of a
+ * run reports them with the arrays, and the resident memory). */
+#define FLUID_BYTES    PRT_FLUID_BYTES
+#define BOUNDARY_BYTES PRT_BOUNDARY_BYTES
 
 static const app_option options[] = {APP_CASE,
                                      {.name = "np",
