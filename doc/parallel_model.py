@@ -32,11 +32,13 @@ NBRS_DOMAIN = 16     # neighbour ranks of a rank (decomposeCase "ranks max": 12-
 SEARCH_HALO = 0.10   # share of a particle's step a halo particle costs (sort and lists)
 HALO_W = 40          # bytes per halo particle per iteration: x* (24), p/rho^2 and rho (16)
 FILL_W = 72          # bytes per halo particle per step: x, v, rho, p, id (9 doubles)
-KAPPA_H = (3.9, 14.0)  # own rows reading a halo particle (within h) = kappa_h (N/P)^(2/3):
-                     # decomposeCase "halo within h / own, domain", tutorials/damBreak: 17 % at
-                     # 2 ranks (3.9) .. 198 % at 64 (14.3); 191 k: 29 % at 8 (8.4), 91 % at 64
-                     # (13.1).  A run on 2 ranks computes 84 % of its own rows while the halo
-                     # travels (End summary, "overlap"): 16 % border, as the 17 % predicts.
+KAPPA_H = (3.9, 14.0)  # own rows reading a halo value (border rows) = kappa_h (N/P)^(2/3):
+                     # decomposeCase "overlap: own particles reading a halo value", damBreak:
+                     # all ranks 17 % at 2 ranks (3.9), 27 % at 3 (5.4), 54 % at 8 (7.8); 191 k:
+                     # 27 % at 8 (7.8), 69 % at 64 (9.9); the worst rank 37 % at 8 (10.7), 100 %
+                     # at 64 (>= 14): 3.9 the mean of a small job, 14 the worst rank of a large
+                     # one.  A run on 2 ranks computes 84 % of its own rows while the halo
+                     # travels (End summary, "overlap"): 16 % border, decomposeCase 14-19 %.
 # ---- published: 100 Gb/s InfiniBand ----
 ALPHA = 1.5e-6       # s latency per message
 BW = 12.5e9          # bytes/s

@@ -483,7 +483,7 @@ static void read_fluid(sl_case *c)
 
 /* ---- constant/boundaryProperties ---- */
 
-static const char *const boundary_keys[] = {"method",   "epsilon",  "restitution",
+static const char *const boundary_keys[] = {"method",   "epsilon",  "restitution", "massFactor",
                                             "geometry", "periodic", NULL};
 static const char *const shape_keys[] = {
     "type",  "min",   "max",  "centre", "radius", "open",      "point1", "point2", "origin",
@@ -631,6 +631,9 @@ static void read_boundary(sl_case *c)
     need(dict_get_scalar_or(d, "restitution", 0.0, &c->prm.restitution, &err), &err);
     if (!(c->prm.restitution >= 0.0 && c->prm.restitution <= 1.0))
         bad_value(d, "restitution", "must be in [0, 1]");
+    need(dict_get_scalar_or(d, "massFactor", 1.0, &c->prm.mass_factor, &err), &err);
+    if (!(c->prm.mass_factor > 0.0 && c->prm.mass_factor <= 10.0))
+        bad_value(d, "massFactor", "must be in (0, 10]");
     need(dict_get_scalar_or(d, "epsilon", 1.0, &c->prm.epsilon, &err), &err);
     if (!(c->prm.epsilon >= 0.0 && c->prm.epsilon <= 1.0))
         bad_value(d, "epsilon", "must be in [0, 1]");

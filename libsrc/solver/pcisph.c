@@ -33,6 +33,7 @@ void pcs_params_default(pcs_params *p)
     p->epsilon = 1.0;
     p->method = &ihmsen2010_method;
     p->restitution = 0.0;
+    p->mass_factor = 1.0;
     p->support = 2.0;
 }
 
@@ -610,6 +611,10 @@ void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b, c
     dom_periodic_wrap(&p->periodic, f->n, f->x, f->y, f->z);
     nbr_sort_boundary(&s->grid, b);
     s->cal = bnd_calibrate(&s->k, p->r0, s->mass, p->rho0);
+    /* massFactor: heavier (or lighter) walls, the boundary particles' own
+     * rest density kept at rho0 */
+    s->cal.gamma *= p->mass_factor;
+    s->cal.c_static /= p->mass_factor;
     bnd_set_mass(&s->grid, &s->k, &s->cal, p->rho0, b);
     dom_boundary_images_mass(&s->halo, &s->grid, &s->k, s->cal.c_static, b);
     s->active = sl_alloc_aligned((b->n + 1) * sizeof *s->active, "active boundary list");

@@ -44,6 +44,7 @@ typedef struct pcs_params {
     double epsilon;                /* eq. (12): tangential velocity kept on contact */
     const bnd_method_type *method; /* boundary handling (constant/boundaryProperties) */
     double restitution;            /* becker2009: delta of eq. (7) */
+    double mass_factor;            /* boundary masses times this (massFactor; 1: calibrated) */
     dom_periodic periodic;         /* periodic axes and their period (axes 0: none) */
     int one_rank; /* 1: a solver of one rank's whole case even under -parallel (the relaxed
                    * packing, made alike on every rank before the split) */

@@ -534,7 +534,7 @@ static struct pcs_domain *domain_new(const nbr_grid *g, int p, int depth)
 static void domain_free(struct pcs_domain *d);
 
 void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t *halo,
-                   size_t *bstored)
+                   size_t *bstored, int *brank)
 {
     struct pcs_domain *d = domain_new(&s->grid, p, halo_depth(s));
     const sl_fluid *f = s->f;
@@ -552,6 +552,7 @@ void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t
     for (size_t j = 0; j < b->n - b->nimages; j++) { /* own rows and halo rows */
         const size_t k = row_of(s, d, b->x[j], b->y[j], b->z[j]);
         bstored[d->owner[k]]++;
+        brank[j] = d->owner[k];
         for (uint32_t q = d->nstart[k]; q < d->nstart[k + 1]; q++) bstored[d->nrank[q]]++;
     }
     domain_free(d);

@@ -60,9 +60,10 @@ void pcd_free(pcs_solver *s);
 /* decomposeCase: the cuts this mode makes of s's fluid (sorted, in one
  * process) over p ranks: each particle's rank, and per rank the fluid
  * particles its halo holds and those it stores (own + halo), and the
- * boundary particles it stores (those of its own and halo rows). */
+ * boundary particles it stores (those of its own and halo rows), and
+ * each boundary particle's owner (brank). */
 void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t *halo,
-                   size_t *bstored);
+                   size_t *bstored, int *brank);
 /* Before the sort: migration, rebalancing, halo received. */
 void pcd_distribute(pcs_solver *s);
 /* After the sort and the lists: own rows, exchange lists, the boundary

@@ -111,6 +111,7 @@ static const bad_input bad_inputs[] = {
      "fluidProperties:3", "'cone'"},
     {"constant/boundaryProperties", "method magic;\n", NULL, "boundaryProperties:2", "magic"},
     {"constant/boundaryProperties", "epsilon 2;\n", NULL, "boundaryProperties:2", "epsilon"},
+    {"constant/boundaryProperties", "massFactor 0;\n", NULL, "boundaryProperties:2", "massFactor"},
     {"constant/boundaryProperties",
      "geometry { t { type container; min (0 0 0); max (1 -1 1); } }\n", NULL,
      "boundaryProperties:2", "max"},

@@ -426,6 +426,9 @@ static void test_decompose_case(void **state)
     assert_int_equal(system("grep -q rcbRank "
                             "tests/output/parDecompose/postProcessing/decomposeCase/fluid.vtu"),
                      0);
+    assert_int_equal(system("grep -Eq '^overlap: own particles reading a halo value' "
+                            "tests/output/parDecompose/log.decomposeCase"),
+                     0);
     /* the boundary particles each rank stores: fewer than the case holds,
      * and those the run on 3 ranks stored (static walls, never
      * redistributed: test_dam_break_np123's parDam3) */
