@@ -364,17 +364,18 @@ static void read_emitter(sl_case *c, const dict *e, const dict_entry *at)
                   "the opening holds no particle at this particleSpacing");
 }
 
-/* initialPacking cubic | relaxed | { type relaxed; steps ..; jitter ..; } */
+/* initialPacking cubic | relaxed | { type relaxed; steps ..; tolerance ..; jitter ..; } */
 static void read_packing(sl_case *c, const dict *d)
 {
     static const char *const types[] = {"cubic", "relaxed", NULL};
-    static const char *const keys[] = {"type", "steps", "jitter", NULL};
+    static const char *const keys[] = {"type", "steps", "tolerance", "jitter", NULL};
     case_packing *k = &c->packing;
     sl_err err;
     const char *w;
     long l;
     k->steps = CASE_RELAX_STEPS;
     k->jitter = CASE_RELAX_JITTER;
+    k->tolerance = 0.0;
     if (!dict_has(d, "initialPacking")) return;
     set_where(&k->where, dict_lookup(d, "initialPacking"));
     const dict *p = dict_sub(d, "initialPacking");
@@ -391,6 +392,14 @@ static void read_packing(sl_case *c, const dict *d)
     need(dict_get_int_or(p, "steps", CASE_RELAX_STEPS, &l, &err), &err);
     if (l < 1 || l > 100000) bad_value(p, "steps", "must be between 1 and 100000 (default 300)");
     k->steps = l;
+    if (dict_has(p, "tolerance")) {
+        need(dict_get_scalar(p, "tolerance", &k->tolerance, &err), &err);
+        if (!(k->tolerance > 0.0 && k->tolerance < 1.0))
+            bad_value(p, "tolerance",
+                      "must be the largest displacement per step that ends the relaxation, a "
+                      "fraction of particleSpacing above 0 and below 1 (e.g. 1e-4; leave it out "
+                      "for a fixed number of steps)");
+    }
     need(dict_get_scalar_or(p, "jitter", CASE_RELAX_JITTER, &k->jitter, &err), &err);
     if (!(k->jitter >= 0.0 && k->jitter <= 0.3))
         bad_value(p, "jitter",

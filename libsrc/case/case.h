@@ -64,8 +64,9 @@ typedef struct case_region {
  * relaxed positions, case_initial_velocity). */
 typedef struct case_packing {
     int relaxed;
-    long steps;
-    double jitter; /* fraction of r0 */
+    long steps;       /* the steps, or with tolerance > 0 their cap */
+    double tolerance; /* 0: none; else the residual stop (pcs_relax.h), fraction of r0 per step */
+    double jitter;    /* fraction of r0 */
     case_where where;
 } case_packing;
 

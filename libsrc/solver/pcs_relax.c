@@ -84,7 +84,8 @@ static int fire_mix(fire *fr, sl_fluid *f)
     return 0;
 }
 
-void pcs_relax(pcs_solver *s, long steps, double jitter, long every, pcs_relax_stats *out)
+void pcs_relax(pcs_solver *s, long steps, double tolerance, double jitter, long every,
+               pcs_relax_stats *out)
 {
     sl_boundary *b = s->b;
     const double t0 = omp_get_wtime();
@@ -103,8 +104,8 @@ void pcs_relax(pcs_solver *s, long steps, double jitter, long every, pcs_relax_s
     pcs_jitter(s, jitter);
     zero_velocity(s->f);
     fire fr = {FIRE_ALPHA0, 0};
-    long restarts = 0;
-    for (long k = 0; k < steps; k++) {
+    long restarts = 0, below = 0, k;
+    for (k = 0; k < steps; k++) {
         pcs_stats st;
         pcs_step_in_place(s, &st);
         /* the step's largest displacement, dt |v(t + dt)| */
@@ -115,18 +116,25 @@ void pcs_relax(pcs_solver *s, long steps, double jitter, long every, pcs_relax_s
         out->move_max = fmax(out->move_max, move);
         out->err_avg = st.err_avg;
         out->err_max = st.err_max;
-        if (k == 0 || k == steps - 1 || (every > 0 && (k + 1) % every == 0))
+        below = move < tolerance ? below + 1 : 0;
+        const int done = tolerance > 0.0 && below >= PCS_RELAX_WINDOW;
+        if (k == 0 || k == steps - 1 || done || (every > 0 && (k + 1) % every == 0))
             sl_info("Relaxation step %ld of %ld: largest displacement %.3g r0, rho_err avg %.3f%% "
                     "max %.3f%%, iter %d, %ld restarts from rest",
                     k + 1, steps, move, 100 * st.err_avg, 100 * st.err_max, st.iterations,
                     restarts);
+        if (done) {
+            out->converged = 1;
+            k++;
+            break;
+        }
     }
     zero_velocity(s->f);
     memcpy(b->vx, bv, nb * sizeof *bv);
     memcpy(b->vy, bv + nb, nb * sizeof *bv);
     memcpy(b->vz, bv + 2 * nb, nb * sizeof *bv);
     free(bv);
-    out->steps = steps;
+    out->steps = k;
     out->restarts = restarts;
     out->wall = omp_get_wtime() - t0;
 }

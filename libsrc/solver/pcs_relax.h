@@ -31,7 +31,8 @@
 #include "solver/pcisph.h"
 
 typedef struct pcs_relax_stats {
-    long steps;
+    long steps;    /* steps taken */
+    int converged; /* tolerance > 0: met (the last PCS_RELAX_WINDOW steps below it) */
     double move_first, move_last; /* largest displacement of a step / r0: first, last */
     double move_max;              /* largest of any step */
     double err_avg, err_max;      /* compression after the last step (fraction of rho0) */
@@ -42,8 +43,24 @@ typedef struct pcs_relax_stats {
 /* Displace fluid particle i by up to jitter r0 per axis (deterministic in
  * its id), wrap periodic axes. */
 void pcs_jitter(pcs_solver *s, double jitter);
-/* The relaxation above, at the solver's dt; logs every `every` steps (0:
- * the first and last only). */
-void pcs_relax(pcs_solver *s, long steps, double jitter, long every, pcs_relax_stats *out);
+/* The residual stop: with tolerance > 0 the relaxation ends once the
+ * largest displacement of a step, dt max|v| / r0, has stayed below
+ * tolerance for PCS_RELAX_WINDOW consecutive steps.  dt max|v| / r0 is the
+ * largest speed over the solver's own speed r0 / dt, which sets PCISPH's
+ * stiffness (doc/verification.md, Taylor-Green): case-independent (no
+ * height or gravity needed, unlike a speed over sqrt(g H)) and, at dt
+ * proportional to r0, the same bound on the speed at every level of a
+ * sweep.  The window: FIRE's restarts zero the velocity, so single steps
+ * are small after one; over 100 steps from rest a particle reaches the
+ * tolerance unless its acceleration is below tolerance r0 / (100 dt^2).
+ * (The largest force is no residual: a particle held by a wall keeps
+ * tens of m/s^2 at rest.)  A maximum: the same on every thread count,
+ * so the stopping step is too. */
+#define PCS_RELAX_WINDOW 100
+/* The relaxation above, at the solver's dt: at most `steps` steps (all of
+ * them with tolerance 0); logs every `every` steps (0: the first and last
+ * only). */
+void pcs_relax(pcs_solver *s, long steps, double tolerance, double jitter, long every,
+               pcs_relax_stats *out);
 
 #endif

@@ -98,6 +98,12 @@ static const bad_input bad_inputs[] = {
      "fluidProperties:4", "'steps'"},
     {"constant/fluidProperties", "initialPacking { type relaxed; jitter 0.6; }\n", NULL,
      "fluidProperties:4", "'jitter'"},
+    {"constant/fluidProperties", "initialPacking { type relaxed; tolerance 0; }\n", NULL,
+     "fluidProperties:4", "'tolerance'"},
+    {"constant/fluidProperties", "initialPacking { type relaxed; tolerance -1e-4; }\n", NULL,
+     "fluidProperties:4", "'tolerance'"},
+    {"constant/fluidProperties", "initialPacking { type relaxed; tolerance small; }\n", NULL,
+     "fluidProperties:4", "tolerance"},
     {"constant/fluidProperties", "rho0 1000\nrho0 2;\n", NULL, "fluidProperties:4", "rho0"},
     {"constant/fluidProperties", NULL,
      "rho0 1000;\nparticleSpacing 0.02;\nfluidRegions { a { type box; min (5 5 5); max (6 6 6); } "

@@ -716,9 +716,16 @@ static void relax(run *r)
 {
     pcs_relax_stats rs;
     const case_packing *k = &r->c.packing;
-    sl_info("%s: initialPacking relaxed: lattice displaced by up to %g r0, then %ld damped steps "
-            "of %g s (FIRE) before t = %g",
-            k->where.text, k->jitter, k->steps, r->ctl.dt, r->t);
+    if (k->tolerance > 0.0)
+        sl_info("%s: initialPacking relaxed: lattice displaced by up to %g r0, then damped steps "
+                "of %g s (FIRE) before t = %g until the largest displacement per step stays below "
+                "%g r0 for %d steps (at most %ld steps)",
+                k->where.text, k->jitter, r->ctl.dt, r->t, k->tolerance, PCS_RELAX_WINDOW,
+                k->steps);
+    else
+        sl_info("%s: initialPacking relaxed: lattice displaced by up to %g r0, then %ld damped "
+                "steps of %g s (FIRE) before t = %g",
+                k->where.text, k->jitter, k->steps, r->ctl.dt, r->t);
     pcs_params prm = r->c.prm;
     prm.one_rank = 1;
     sl_boundary walls;
@@ -726,7 +733,7 @@ static void relax(run *r)
     pcs_solver s;
     pcs_init(&s, &prm, &r->c.fluid, &walls, r->c.lo, r->c.hi, r->ctl.dt, &r->c.effects);
     pcs_place_world(&s, r->t);
-    pcs_relax(&s, k->steps, k->jitter, r->quiet ? 0 : 50, &rs);
+    pcs_relax(&s, k->steps, k->tolerance, k->jitter, r->quiet ? 0 : 50, &rs);
     pcs_free(&s);
     prt_boundary_free(&walls);
     case_initial_velocity(&r->c, &r->c.fluid);
@@ -736,9 +743,15 @@ static void relax(run *r)
         r->c.effects.e[q].calls = 0;
         r->c.effects.e[q].time = 0.0;
     }
-    sl_info("Relaxed: largest displacement per step %.3g r0 (first), %.3g r0 (last); rho_err avg "
-            "%.3f%% max %.3f%%; %ld restarts from rest; %.2f s wall",
-            rs.move_first, rs.move_last, 100 * rs.err_avg, 100 * rs.err_max, rs.restarts, rs.wall);
+    sl_info("Relaxed: %ld steps; largest displacement per step %.3g r0 (first), %.3g r0 (last); "
+            "rho_err avg %.3f%% max %.3f%%; %ld restarts from rest; %.2f s wall",
+            rs.steps, rs.move_first, rs.move_last, 100 * rs.err_avg, 100 * rs.err_max, rs.restarts,
+            rs.wall);
+    if (k->tolerance > 0.0 && !rs.converged)
+        sl_warning("%s: initialPacking relaxed: the largest displacement per step did not stay "
+                   "below tolerance %g r0 for %d steps within steps %ld (last %.3g r0): the "
+                   "packing is not relaxed to the tolerance; raise steps or tolerance",
+                   k->where.text, k->tolerance, PCS_RELAX_WINDOW, k->steps, rs.move_last);
 }
 
 static run *the_run; /* for the exit handler */
