@@ -136,6 +136,59 @@ static void test_relaxed_packing(void **state)
         0);
 }
 
+/* initialPacking relaxed with a tolerance (the residual stop): the
+ * translating tank at r0 0.01 m, dt = r0 / 20 s/m, measured at 0.25 s.
+ * Relaxed until the largest displacement per step stays below 1e-4 r0 for
+ * 100 steps (9493 steps), its spurious velocity rms is 0.00048 sqrt(g H)
+ * against 0.0127 after the default 300 steps (measured): the stop is
+ * reached (no warning), the error below 0.0007 and below a tenth of the
+ * 300 steps' one; the stopping step and the files are the same on 1 and 2
+ * threads; a cap reached first is a warning. */
+#define TO_025                                                                         \
+    "sed -i 's/^endTime .*/endTime 0.25;/; s/^writeInterval .*/writeInterval 0.25;/' " \
+    "system/controlDict"
+#define PACKING(p) \
+    "sed -i 's/^eta .*/&\\ninitialPacking " p "/' constant/fluidProperties && " TO_025
+static void test_relaxed_to_tolerance(void **state)
+{
+    (void)state;
+    const char *b = bin_dir();
+    double e = level("translatingTank", "translatingTank_tolerance", 0.01, 0.0005,
+                     PACKING("{ type relaxed; steps 20000; tolerance 1e-4; }"));
+    double e300 =
+        level("translatingTank", "translatingTank_steps300", 0.01, 0.0005, PACKING("relaxed;"));
+    assert_int_equal(
+        run("grep -q '^Relaxed: [0-9]* steps' " OUT "/translatingTank_tolerance/log.pcisph"), 0);
+    assert_int_not_equal(run("grep -q 'Warning' " OUT "/translatingTank_tolerance/log.pcisph"), 0);
+    assert_true(e < 0.0007);
+    assert_true(e < e300 / 10);
+    assert_int_equal(run("rm -rf " OUT "/tolerance_threads2 && %s/cloneCase " OUT
+                         "/translatingTank_tolerance " OUT "/tolerance_threads2 && cd " OUT
+                         "/tolerance_threads2 && %s/editDictionary system/controlDict -entry "
+                         "numberOfThreads -set 2 && %s/pcisph -case . > log.pcisph 2>&1",
+                         b, b, b),
+                     0);
+    assert_int_equal(run("grep '^Relaxed: [0-9]* steps' " OUT
+                         "/translatingTank_tolerance/log.pcisph | cut -d';' -f1 > " OUT
+                         "/tolerance_threads2/steps1 && grep '^Relaxed: [0-9]* steps' " OUT
+                         "/tolerance_threads2/log.pcisph | cut -d';' -f1 | cmp - " OUT
+                         "/tolerance_threads2/steps1"),
+                     0);
+    assert_int_equal(run("cmp " OUT "/translatingTank_tolerance/0.25/fluid.vtu " OUT
+                         "/tolerance_threads2/0.25/fluid.vtu"),
+                     0);
+    /* the cap reached first: a warning naming the file, line and keyword */
+    assert_int_equal(run("rm -rf " OUT "/tolerance_cap && %s/cloneCase " OUT
+                         "/translatingTank_tolerance " OUT "/tolerance_cap && cd " OUT
+                         "/tolerance_cap && sed -i 's/steps 20000;/steps 150;/' "
+                         "constant/fluidProperties && %s/editDictionary system/controlDict "
+                         "-entry endTime -set 0.0005 && %s/pcisph -case . > log.pcisph 2>&1 && "
+                         "grep -q 'fluidProperties:[0-9]*: initialPacking relaxed: the largest "
+                         "displacement per step did not stay below tolerance' log.pcisph",
+                         b, b, b),
+                     0);
+}
+
 /* The standing wave's period from the zero crossings of the velocity's
  * projection on the linear mode (measured 0.0456 at r0 0.01 m; it levels
  * off at 0.034 by r0 0.004 m, see doc/verification.md). */
@@ -533,6 +586,7 @@ int main(void)
         cmocka_unit_test(test_translating_tank),
         cmocka_unit_test(test_hydrostatic_tank),
         cmocka_unit_test(test_relaxed_packing),
+        cmocka_unit_test(test_relaxed_to_tolerance),
         cmocka_unit_test(test_standing_wave_period),
         cmocka_unit_test(test_taylor_green_start),
         cmocka_unit_test(test_taylor_green_lattice_strain),
