@@ -1124,3 +1124,22 @@ void case_free(sl_case *c)
     free(c->dir);
     memset(c, 0, sizeof *c);
 }
+
+double case_wall_distance(const sl_case *c, const double p[3])
+{
+    double d = INFINITY;
+    for (size_t k = 0; k < c->nshapes; k++) {
+        const geo_shape *s = &c->shapes[k];
+        if (s->kind == GEO_CONTAINER) {
+            for (int a = 0; a < 3; a++) {
+                if (!(s->open_faces & (1u << (2 * a))) && p[a] - s->lo[a] < d) d = p[a] - s->lo[a];
+                if (!(s->open_faces & (1u << (2 * a + 1))) && s->hi[a] - p[a] < d)
+                    d = s->hi[a] - p[a];
+            }
+        } else {
+            double e = geo_solid_distance(s, p);
+            if (e < d) d = e;
+        }
+    }
+    return d;
+}

@@ -107,6 +107,11 @@ void case_free(sl_case *c);
  * region's velocity and velocityField (by the particle's id, any order),
  * after a relaxed initialPacking moved the particles off the lattice. */
 void case_initial_velocity(const sl_case *c, sl_fluid *f);
+
+/* Distance from p to the nearest wall surface of the case's shapes:
+ * positive on the fluid side, negative beyond a wall; open container faces
+ * are no walls (boundarySmoothness, classifyCompression). */
+double case_wall_distance(const sl_case *c, const double p[3]);
 /* The top-level keys of each case file ("system/controlDict", ...; ends
  * with where == NULL), for messages about misplaced or misspelt keys. */
 const dict_key_home *case_key_homes(void);

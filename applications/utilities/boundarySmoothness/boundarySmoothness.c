@@ -73,27 +73,6 @@ static const app_info info = {
             "number of fluid particles closer than r0/2 to a wall surface (stacked).",
     .options = options};
 
-/* Distance from p to the nearest wall surface: positive on the fluid side,
- * negative beyond a wall.  Open container faces are no walls. */
-static double wall_distance(const sl_case *c, const double p[3])
-{
-    double d = INFINITY;
-    for (size_t k = 0; k < c->nshapes; k++) {
-        const geo_shape *s = &c->shapes[k];
-        if (s->kind == GEO_CONTAINER) {
-            for (int a = 0; a < 3; a++) {
-                if (!(s->open_faces & (1u << (2 * a))) && p[a] - s->lo[a] < d) d = p[a] - s->lo[a];
-                if (!(s->open_faces & (1u << (2 * a + 1))) && s->hi[a] - p[a] < d)
-                    d = s->hi[a] - p[a];
-            }
-        } else {
-            double e = geo_solid_distance(s, p);
-            if (e < d) d = e;
-        }
-    }
-    return d;
-}
-
 static smooth measure(const sl_case *c, const char *vtu)
 {
     vtkr_file f;
@@ -113,7 +92,7 @@ static smooth measure(const sl_case *c, const char *vtu)
     m.n = f.npoints;
     m.dmin = INFINITY;
     for (size_t i = 0; i < f.npoints; i++) {
-        double d = wall_distance(c, &f.points[3 * i]);
+        double d = case_wall_distance(c, &f.points[3 * i]);
         if (!(d >= m.dmin)) m.dmin = d;
         if (!(d >= stack_d)) m.stacked++; /* NaN positions count */
         if (!(d < h)) continue;

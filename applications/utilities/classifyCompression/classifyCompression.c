@@ -80,27 +80,6 @@ static const app_info info = {
             "p99 / median of the pressure near walls and in the bulk.",
     .options = options};
 
-/* Distance from p to the nearest wall surface, as boundarySmoothness:
- * positive on the fluid side; open container faces are no walls. */
-static double wall_distance(const sl_case *c, const double p[3])
-{
-    double d = INFINITY;
-    for (size_t k = 0; k < c->nshapes; k++) {
-        const geo_shape *s = &c->shapes[k];
-        if (s->kind == GEO_CONTAINER) {
-            for (int a = 0; a < 3; a++) {
-                if (!(s->open_faces & (1u << (2 * a))) && p[a] - s->lo[a] < d) d = p[a] - s->lo[a];
-                if (!(s->open_faces & (1u << (2 * a + 1))) && s->hi[a] - p[a] < d)
-                    d = s->hi[a] - p[a];
-            }
-        } else {
-            double e = geo_solid_distance(s, p);
-            if (e < d) d = e;
-        }
-    }
-    return d;
-}
-
 /* A uniform cell grid of size h over a point set (counting sort). */
 typedef struct grid {
     double lo[3], inv;
@@ -243,7 +222,7 @@ static classified classify(const sl_case *c, const char *dir, const char *tname,
         double rmin = INFINITY;
         double rho = grid_sum(&gf, f.points, NULL, mass, &k, p, i, &rmin) +
             grid_sum(&gb, b.points, bm->data, 0.0, &k, p, SIZE_MAX, NULL);
-        double e = rho > rho0 ? (rho - rho0) / rho0 : 0.0, d = wall_distance(c, p);
+        double e = rho > rho0 ? (rho - rho0) / rho0 : 0.0, d = case_wall_distance(c, p);
         sum += e;
         if (e > m.max) m.max = e;
         if (d < 0.0) m.penetrated++;
