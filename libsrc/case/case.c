@@ -937,25 +937,43 @@ static void check_emitter_volume(const sl_case *c, size_t k)
                    tank);
 }
 
-/* Particles [from, fluid.n) of region r that lie inside an earlier region:
- * two regions over one place would put two particles there (twice rho0,
- * which PCISPH cannot undo), so overlapping regions are refused. */
-static void check_overlap(const sl_case *c, size_t r, size_t from)
+/* The fluid's filter while a region is filled: every lattice point the
+ * region makes is tested against the earlier regions (two regions over one
+ * place would put two particles there, twice rho0, which PCISPH cannot
+ * undo: overlapping regions are refused), then kept or not by the pass's
+ * own filter (case_build_particles; NULL keeps every one).  The test sees
+ * every point made, stored or not, so a rank that keeps a part of the case
+ * refuses what the serial build refuses. */
+typedef struct fill_filter {
+    prt_filter f; /* c->fluid.filter while filling (f.ctx: this) */
+    const sl_case *c;
+    prt_filter *pass; /* the pass's filter (NULL: keep all) */
+    size_t region;
+    size_t *inside; /* per earlier region: points of this one inside it */
+} fill_filter;
+
+static int fill_keep(void *ctx, double x, double y, double z)
 {
-    const sl_fluid *f = &c->fluid;
-    for (size_t q = 0; q < r; q++) {
-        size_t inside = 0;
-        for (size_t i = from; i < f->n; i++) {
-            const double p[3] = {f->x[i], f->y[i], f->z[i]};
-            inside += geo_solid_distance(&c->regions[q].shape, p) < 0.0;
-        }
-        if (inside)
+    fill_filter *k = ctx;
+    const double p[3] = {x, y, z};
+    for (size_t q = 0; q < k->region; q++)
+        k->inside[q] += geo_solid_distance(&k->c->regions[q].shape, p) < 0.0;
+    if (!k->pass) return 1;
+    k->pass->made++;
+    return k->pass->keep(k->pass->ctx, x, y, z);
+}
+
+/* After region r (n particles made): refused if some lie inside an earlier
+ * region. */
+static void check_overlap(const sl_case *c, size_t r, const size_t *inside, size_t n)
+{
+    for (size_t q = 0; q < r; q++)
+        if (inside[q])
             sl_fatal("%s: fluid region '%s' overlaps fluid region '%s' (%s): %zu of its %zu "
                      "particles lie inside '%s', where they would double the density; make the "
                      "regions disjoint (or merge them)",
                      c->regions[r].where.text, c->regions[r].name, c->regions[q].name,
-                     c->regions[q].where.text, inside, f->n - from, c->regions[q].name);
-    }
+                     c->regions[q].where.text, inside[q], n, c->regions[q].name);
 }
 
 /* A body that lies wholly outside every box container meets no fluid:
@@ -981,11 +999,9 @@ static void check_shape_place(const sl_case *c, size_t s, const double lo[3], co
                    c->dir, g->name, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], container_names(c));
 }
 
-void case_build(sl_case *c)
+void case_build_prepare(sl_case *c)
 {
     const double r0 = c->prm.r0;
-    sl_progress prog;
-    const size_t nparts = c->nshapes + c->nregions;
     for (size_t s = 0; s < c->nshapes; s++) {
         double lo[3], hi[3];
         if (c->shapes[s].kind == GEO_PLANE) continue; /* bounded by its edges */
@@ -1010,10 +1026,6 @@ void case_build(sl_case *c)
         check_size(c, "constant/fluidProperties", "fluid region", c->regions[r].name,
                    estimate(lo, hi, r0, 0));
     }
-    for (int k = 0; k < 3; k++) {
-        c->lo[k] = INFINITY;
-        c->hi[k] = -INFINITY;
-    }
     for (size_t s = 0; s < c->nshapes; s++) {
         geo_shape *t = &c->shapes[s];
         /* A box thinner than 2 r0 would be sampled as one layer with
@@ -1033,24 +1045,24 @@ void case_build(sl_case *c)
         check_emitter_place(c, e);
         check_emitter_volume(c, e);
     }
-    sl_progress_start(&prog, stderr, 0, (double)nparts, 10.0);
-    for (size_t s = 0; s < c->nshapes; s++) {
-        const geo_shape *g = &c->shapes[s];
-        double lo[3], hi[3];
-        build_status(&prog, "sampling geometry", g->name, s, nparts);
-        const int all_open = g->kind == GEO_CONTAINER && g->open_faces == 63u;
-        if (geo_sample(g, r0, (uint32_t)s, &c->boundary) == 0 &&
-            !(all_open && c->prm.periodic.axes)) /* a periodic box without walls */
-            sl_fatal("%s/constant/boundaryProperties: geometry '%s' is too small to sample "
-                     "with particleSpacing %g",
-                     c->dir, g->name, r0);
-        geo_bounds(g, r0, lo, hi);
-        grow_bounds(c->lo, c->hi, lo, hi);
-    }
+}
+
+/* The regions filled: region r's particles made [id0, id1), those the
+ * fluid's filter keeps stored. */
+static void fill_regions(sl_case *c, prt_filter *fluid, sl_progress *prog, size_t nparts)
+{
+    const double r0 = c->prm.r0;
+    fill_filter k = {.f = {fill_keep, NULL, 0}, .c = c, .pass = fluid};
+    k.f.ctx = &k;
+    k.inside = sl_calloc(c->nregions + 1, sizeof *k.inside, "region overlaps");
+    c->fluid.filter = &k.f;
     for (size_t r = 0; r < c->nregions; r++) {
         const case_region *g = &c->regions[r];
-        build_status(&prog, "filling fluid region", g->name, c->nshapes + r, nparts);
+        build_status(prog, "filling fluid region", g->name, c->nshapes + r, nparts);
         size_t lost = 0, from = c->fluid.n;
+        const size_t id0 = k.f.made;
+        k.region = r;
+        memset(k.inside, 0, (c->nregions + 1) * sizeof *k.inside);
         size_t n =
             geo_fill_region(&g->shape, r0, g->velocity, c->shapes, c->nshapes, &c->fluid, &lost);
         if (lost)
@@ -1063,12 +1075,57 @@ void case_build(sl_case *c)
                      "(outside the container, inside an obstacle, or smaller than "
                      "particleSpacing %g)",
                      c->dir, g->name, r0);
-        check_overlap(c, r, from);
+        check_overlap(c, r, k.inside, n);
         apply_velocity_field(g, c->prm.gravity, &c->fluid, from);
-        c->regions[r].id0 = (uint32_t)from;
-        c->regions[r].id1 = (uint32_t)c->fluid.n;
+        c->regions[r].id0 = (uint32_t)id0;
+        c->regions[r].id1 = (uint32_t)k.f.made;
+    }
+    c->fluid.filter = NULL;
+    c->nfluid = k.f.made;
+    free(k.inside);
+}
+
+void case_build_particles(sl_case *c, prt_filter *fluid, prt_filter *boundary, int what)
+{
+    const double r0 = c->prm.r0;
+    sl_progress prog;
+    const size_t nparts = c->nshapes + c->nregions;
+    sl_progress_start(&prog, stderr, 0, (double)nparts, 10.0);
+    if (what & CASE_BOUNDARY) {
+        c->boundary.filter = boundary;
+        const size_t made0 = boundary ? boundary->made : c->boundary.n;
+        for (size_t s = 0; s < c->nshapes; s++) {
+            const geo_shape *g = &c->shapes[s];
+            build_status(&prog, "sampling geometry", g->name, s, nparts);
+            const int all_open = g->kind == GEO_CONTAINER && g->open_faces == 63u;
+            if (geo_sample(g, r0, (uint32_t)s, &c->boundary) == 0 &&
+                !(all_open && c->prm.periodic.axes)) /* a periodic box without walls */
+                sl_fatal("%s/constant/boundaryProperties: geometry '%s' is too small to sample "
+                         "with particleSpacing %g",
+                         c->dir, g->name, r0);
+        }
+        c->nboundary = boundary ? boundary->made - made0 : c->boundary.n;
+        c->boundary.filter = NULL;
+    }
+    if (what & CASE_FLUID) fill_regions(c, fluid, &prog, nparts);
+    sl_progress_end(&prog);
+}
+
+void case_build_finish(sl_case *c)
+{
+    const double r0 = c->prm.r0;
+    for (int k = 0; k < 3; k++) {
+        c->lo[k] = INFINITY;
+        c->hi[k] = -INFINITY;
+    }
+    for (size_t s = 0; s < c->nshapes; s++) {
         double lo[3], hi[3];
-        geo_bounds(&g->shape, r0, lo, hi);
+        geo_bounds(&c->shapes[s], r0, lo, hi);
+        grow_bounds(c->lo, c->hi, lo, hi);
+    }
+    for (size_t r = 0; r < c->nregions; r++) {
+        double lo[3], hi[3];
+        geo_bounds(&c->regions[r].shape, r0, lo, hi);
         grow_bounds(c->lo, c->hi, lo, hi);
     }
     for (size_t e = 0; e < c->nemitters; e++) {
@@ -1082,10 +1139,9 @@ void case_build(sl_case *c)
         }
         grow_bounds(c->lo, c->hi, lo, hi);
     }
-    sl_progress_end(&prog);
-    if (c->fluid.n > UINT32_MAX / 2 || c->boundary.n > UINT32_MAX / 2)
-        sl_fatal("%s: too many particles (%zu fluid, %zu boundary)", c->dir, c->fluid.n,
-                 c->boundary.n);
+    if (c->nfluid > UINT32_MAX / 2 || c->nboundary > UINT32_MAX / 2)
+        sl_fatal("%s: too many particles (%zu fluid, %zu boundary)", c->dir, c->nfluid,
+                 c->nboundary);
     for (int k = 0; k < 3; k++) {
         c->lo[k] -= pcs_support(&c->prm);
         c->hi[k] += pcs_support(&c->prm);
@@ -1095,8 +1151,15 @@ void case_build(sl_case *c)
             c->lo[k] = fmin(c->lo[k], c->prm.periodic.lo[k] - (pcs_support(&c->prm) + r0));
             c->hi[k] = fmax(c->hi[k], c->prm.periodic.hi[k] + (pcs_support(&c->prm) + r0));
         }
-    void *emit = eff_emitter_new(c->emitters, c->nemitters, (uint32_t)c->fluid.n);
+    void *emit = eff_emitter_new(c->emitters, c->nemitters, (uint32_t)c->nfluid);
     if (emit) eff_add(&c->effects, &eff_emitter, emit);
+}
+
+void case_build(sl_case *c)
+{
+    case_build_prepare(c);
+    case_build_particles(c, NULL, NULL, CASE_FLUID | CASE_BOUNDARY);
+    case_build_finish(c);
 }
 
 void case_free(sl_case *c)

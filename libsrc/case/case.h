@@ -94,6 +94,10 @@ typedef struct sl_case {
     sl_fluid fluid;
     sl_boundary boundary;
     double lo[3], hi[3]; /* scene bounds for the neighbour grid */
+    /* the particles of the whole case at t = 0 (with part: of every rank;
+     * fluid and boundary hold this rank's share, case_part.h) */
+    size_t nfluid, nboundary;
+    int part;
 } sl_case;
 
 /* Read all dictionaries of the case in `dir`; exits with a clear error on
@@ -102,6 +106,16 @@ void case_read(sl_case *c, const char *dir);
 /* Sample the geometry and fill the fluid regions; exits with an error if the
  * scene is empty or impossible. */
 void case_build(sl_case *c);
+/* case_build in its three steps, for a build in passes (case_part.h):
+ * the checks (once); the particles made, stored through the filters
+ * (NULL: every one; what: CASE_FLUID and/or CASE_BOUNDARY; nfluid and
+ * nboundary set to the particles made, ids their creation indices, the
+ * same in every pass); the bounds of the scene and the emitters (once,
+ * after the particles were made once). */
+enum { CASE_FLUID = 1, CASE_BOUNDARY = 2 };
+void case_build_prepare(sl_case *c);
+void case_build_particles(sl_case *c, prt_filter *fluid, prt_filter *boundary, int what);
+void case_build_finish(sl_case *c);
 void case_free(sl_case *c);
 /* The initial velocity of each fluid particle at its present position: its
  * region's velocity and velocityField (by the particle's id, any order),

@@ -105,13 +105,20 @@ static const char *why(gzFile g)
     return code != Z_OK && msg && *msg ? msg : "it ends early";
 }
 
-/* One snapshot: into s (keep) or skipped. */
+/* One snapshot: into s (keep; 2: its header only, the arrays skipped) or
+ * skipped. */
 static int get_snapshot(gzFile g, pcs_snapshot *s, int keep)
 {
     rst_snap_header h;
     if (get(g, &h, sizeof h) || h.n > ((uint64_t)1 << 34)) return -1;
     const size_t n = (size_t)h.n, bytes = n * sizeof(double);
-    if (!keep) return get(g, NULL, 6 * bytes + n * sizeof(uint32_t));
+    if (keep == 2) {
+        s->n = n;
+        s->time = h.time;
+        s->dt = h.dt;
+        s->step = (long)h.step;
+    }
+    if (keep != 1) return get(g, NULL, 6 * bytes + n * sizeof(uint32_t));
     sl_fluid tmp;
     prt_fluid_init(&tmp); /* grow the snapshot's buffers through a take of an empty fluid */
     tmp.n = n;
@@ -126,7 +133,7 @@ static int get_snapshot(gzFile g, pcs_snapshot *s, int keep)
 }
 
 static rst_status rst_read_body(gzFile g, const char *path, pcs_snapshot *snaps, int max,
-                                int *nsnaps, void *ctrl, size_t ctrl_size, sl_err *err)
+                                int *nsnaps, void *ctrl, size_t ctrl_size, int arrays, sl_err *err)
 {
     rst_header h;
     char tail;
@@ -159,7 +166,7 @@ static rst_status rst_read_body(gzFile g, const char *path, pcs_snapshot *snaps,
     *nsnaps = 0;
     for (uint64_t k = 0; k < h.nsnaps; k++) {
         int keep = (int)k < max;
-        if (get_snapshot(g, keep ? &snaps[k] : NULL, keep)) {
+        if (get_snapshot(g, keep ? &snaps[k] : NULL, keep ? (arrays ? 1 : 2) : 0)) {
             sl_err_set(err, "restart file '%s' is damaged (%s)", path, why(g));
             return RST_DAMAGED;
         }
@@ -175,8 +182,8 @@ static rst_status rst_read_body(gzFile g, const char *path, pcs_snapshot *snaps,
     return RST_OK;
 }
 
-rst_status rst_read(const char *dir, pcs_snapshot *snaps, int max, int *nsnaps, void *ctrl,
-                    size_t ctrl_size, sl_err *err)
+static rst_status read_file(const char *dir, pcs_snapshot *snaps, int max, int *nsnaps, void *ctrl,
+                            size_t ctrl_size, int arrays, sl_err *err)
 {
     char *path = rst_path(dir, 0, err);
     errno = 0;
@@ -189,8 +196,61 @@ rst_status rst_read(const char *dir, pcs_snapshot *snaps, int max, int *nsnaps, 
         free(path);
         return RST_MISSING;
     }
-    rst_status st = rst_read_body(g, path, snaps, max, nsnaps, ctrl, ctrl_size, err);
+    rst_status st = rst_read_body(g, path, snaps, max, nsnaps, ctrl, ctrl_size, arrays, err);
     gzclose(g);
     free(path);
     return st;
+}
+
+rst_status rst_read(const char *dir, pcs_snapshot *snaps, int max, int *nsnaps, void *ctrl,
+                    size_t ctrl_size, sl_err *err)
+{
+    return read_file(dir, snaps, max, nsnaps, ctrl, ctrl_size, 1, err);
+}
+
+rst_status rst_probe(const char *dir, pcs_snapshot *snaps, int max, int *nsnaps, void *ctrl,
+                     size_t ctrl_size, sl_err *err)
+{
+    return read_file(dir, snaps, max, nsnaps, ctrl, ctrl_size, 0, err);
+}
+
+/* Where snapshot k's arrays start in the uncompressed file. */
+static uint64_t snapshot_offset(const pcs_snapshot *snaps, int k)
+{
+    uint64_t off = sizeof(rst_header);
+    for (int q = 0; q < k; q++)
+        off += sizeof(rst_snap_header) + (uint64_t)snaps[q].n * (6 * sizeof(double) + 4);
+    return off + sizeof(rst_snap_header);
+}
+
+int rst_scan(const char *dir, const pcs_snapshot *snaps, int k, rst_chunk_fn fn, void *ctx,
+             sl_err *err)
+{
+    enum { F = 7 };
+    char *path = rst_path(dir, 0, err);
+    const size_t n = snaps[k].n;
+    const uint64_t at = snapshot_offset(snaps, k);
+    gzFile g[F] = {NULL};
+    double *a[6];
+    uint32_t *id = sl_malloc(RST_CHUNK * sizeof *id, "restart chunk");
+    for (int j = 0; j < 6; j++) a[j] = sl_malloc(RST_CHUNK * sizeof *a[j], "restart chunk");
+    int rc = 0;
+    for (int j = 0; j < F && !rc; j++) { /* one stream per field, at its first value */
+        g[j] = gzopen(path, "rb");
+        const z_off_t off = (z_off_t)(at + (uint64_t)j * n * sizeof(double));
+        if (!g[j] || gzseek(g[j], off, SEEK_SET) != off) rc = -1;
+    }
+    for (size_t i = 0; i < n && !rc; i += RST_CHUNK) {
+        const size_t m = n - i < RST_CHUNK ? n - i : RST_CHUNK;
+        for (int j = 0; j < 6 && !rc; j++) rc = get(g[j], a[j], m * sizeof(double));
+        if (!rc) rc = get(g[6], id, m * sizeof *id);
+        if (!rc) fn(ctx, m, (const double *const *)a, id);
+    }
+    if (rc) sl_err_set(err, "restart file '%s' is damaged (%s)", path, g[0] ? why(g[0]) : "");
+    for (int j = 0; j < F; j++)
+        if (g[j]) gzclose(g[j]);
+    for (int j = 0; j < 6; j++) free(a[j]);
+    free(id);
+    free(path);
+    return rc ? 1 : 0;
 }

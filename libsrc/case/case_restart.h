@@ -40,4 +40,19 @@ int rst_write(const char *dir, const pcs_snapshot *const *snaps, int nsnaps, con
 rst_status rst_read(const char *dir, pcs_snapshot *snaps, int max, int *nsnaps, void *ctrl,
                     size_t ctrl_size, sl_err *err);
 
+/* A restart file read in bounded chunks (-parallel's set-up in parts,
+ * case_part.h: no rank holds the whole file's state).  rst_probe reads the
+ * whole file through (the CRC-32 checked, as rst_read) keeping only the
+ * snapshots' headers (n, time, dt, step: into snaps[], their arrays left
+ * empty) and the other state; rst_scan then calls fn for snapshot k's
+ * particles in file order, at most RST_CHUNK at a time (one zlib stream
+ * per field, each started at its field: a field-major file streamed
+ * particle by particle).  fn's arrays: x, y, z, vx, vy, vz. */
+#define RST_CHUNK 16384
+rst_status rst_probe(const char *dir, pcs_snapshot *snaps, int max, int *nsnaps, void *ctrl,
+                     size_t ctrl_size, sl_err *err);
+typedef void (*rst_chunk_fn)(void *ctx, size_t n, const double *const a[6], const uint32_t *id);
+int rst_scan(const char *dir, const pcs_snapshot *snaps, int k, rst_chunk_fn fn, void *ctx,
+             sl_err *err);
+
 #endif

@@ -5,6 +5,7 @@
 #include <stdio.h>
 
 #include "core/sl_log.h"
+#include "parallel/par.h"
 
 /* Height of the fluid's top above the lowest boundary particle, along g. */
 static double fluid_height(const sl_case *c)
@@ -22,6 +23,10 @@ static double fluid_height(const sl_case *c)
             -(g[0] * c->boundary.x[i] + g[1] * c->boundary.y[i] + g[2] * c->boundary.z[i]) / gn;
         if (u < low) low = u;
     }
+    if (c->part) { /* built in parts: every rank's (maxima, exact in any order) */
+        top = par_max_double(top);
+        low = par_min_double(low);
+    }
     return top > low ? top - low : 0.0;
 }
 
@@ -33,6 +38,7 @@ double case_initial_step(const sl_case *c, char *rule, size_t len)
             c->fluid.vz[i] * c->fluid.vz[i];
         if (a > v2) v2 = a;
     }
+    if (c->part) v2 = par_max_double(v2);
     for (size_t e = 0; e < c->nemitters; e++)
         if (c->emitters[e].speed * c->emitters[e].speed > v2)
             v2 = c->emitters[e].speed * c->emitters[e].speed;

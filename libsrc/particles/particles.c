@@ -58,8 +58,22 @@ void prt_fluid_free(sl_fluid *f)
     memset(f, 0, sizeof *f);
 }
 
+/* The id of the next push (its index, or through a filter its creation
+ * index); 0 when the filter drops it. */
+static int next_id(prt_filter *flt, size_t n, double x, double y, double z, uint32_t *id)
+{
+    if (!flt) {
+        *id = (uint32_t)n;
+        return 1;
+    }
+    *id = (uint32_t)flt->made++;
+    return flt->keep(flt->ctx, x, y, z);
+}
+
 void prt_fluid_push(sl_fluid *f, double x, double y, double z, double vx, double vy, double vz)
 {
+    uint32_t id;
+    if (!next_id(f->filter, f->n, x, y, z, &id)) return;
     if (f->n == f->cap) prt_fluid_reserve(f, f->cap ? 2 * f->cap : 1024);
     size_t i = f->n++;
     f->x[i] = x;
@@ -76,7 +90,7 @@ void prt_fluid_push(sl_fluid *f, double x, double y, double z, double vx, double
     f->rho[i] = 0.0;
     f->p[i] = 0.0;
     f->pt[i] = 0.0;
-    f->id[i] = (uint32_t)i;
+    f->id[i] = id;
     f->cell[i] = 0;
 }
 
@@ -168,6 +182,8 @@ void prt_boundary_free(sl_boundary *b)
 void prt_boundary_push(sl_boundary *b, double x, double y, double z, double nx, double ny,
                        double nz, uint32_t body)
 {
+    uint32_t id;
+    if (!next_id(b->filter, b->n, x, y, z, &id)) return;
     if (b->n == b->cap) prt_boundary_reserve(b, b->cap ? 2 * b->cap : 1024);
     size_t i = b->n++;
     b->x[i] = x;
@@ -189,7 +205,7 @@ void prt_boundary_push(sl_boundary *b, double x, double y, double z, double nx, 
     b->ny0[i] = ny;
     b->nz0[i] = nz;
     b->body[i] = body;
-    b->id[i] = (uint32_t)i;
+    b->id[i] = id;
 }
 
 void prt_boundary_permute(sl_boundary *b, const uint32_t *perm)

@@ -17,6 +17,17 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* Which particles a set stores as they are made (case/case_part.h: a
+ * rank builds its part of a case): with a filter, every push counts in
+ * `made` and takes it as its id (its creation index in the whole case),
+ * and only those keep() accepts are stored.  Without one (NULL) every push
+ * is stored with id = its index. */
+typedef struct prt_filter {
+    int (*keep)(void *ctx, double x, double y, double z);
+    void *ctx;
+    size_t made; /* particles pushed through the filter */
+} prt_filter;
+
 typedef struct sl_fluid {
     size_t n, cap;
     size_t nhalo;            /* halo copies (periodic images, other ranks' particles) at
@@ -34,6 +45,7 @@ typedef struct sl_fluid {
     uint32_t *cell;          /* grid cell (scratch for sorting) */
     double *scratch;         /* permutation scratch, cap doubles */
     uint32_t *scratch_u;     /* permutation scratch, cap uint32 */
+    prt_filter *filter;      /* NULL: every push stored (see prt_filter) */
 } sl_fluid;
 
 typedef struct sl_boundary {
@@ -54,6 +66,7 @@ typedef struct sl_boundary {
     double *scratch; /* permutation scratch */
     uint32_t *scratch_u;
     size_t scratch_cap;
+    prt_filter *filter; /* NULL: every push stored (see prt_filter) */
 } sl_boundary;
 
 /* Bytes per particle of the arrays above (for memory reports): the
@@ -66,7 +79,8 @@ typedef struct sl_boundary {
 void prt_fluid_init(sl_fluid *f);
 void prt_fluid_reserve(sl_fluid *f, size_t cap);
 void prt_fluid_free(sl_fluid *f);
-/* Append a particle at rest-state fields (p = 0, rho = 0). */
+/* Append a particle at rest-state fields (p = 0, rho = 0); with a
+ * filter, only if it keeps it (prt_filter). */
 void prt_fluid_push(sl_fluid *f, double x, double y, double z, double vx, double vy, double vz);
 /* Reorder every per-particle array so that new[i] = old[perm[i]]. */
 void prt_fluid_permute(sl_fluid *f, const uint32_t *perm);

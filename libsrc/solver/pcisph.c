@@ -589,8 +589,20 @@ static void split_init(pcs_split *sp, size_t nb, int one_rank)
     if (sp->size > 1) sp->bbuf = sl_alloc_aligned((3 * nb + 1) * sizeof *sp->bbuf, "boundary rows");
 }
 
+size_t pcs_grid_cells(size_t nfluid, size_t nboundary)
+{
+    return 8 * (nfluid + nboundary) + ((size_t)1 << 20);
+}
+
 void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b, const double lo[3],
               const double hi[3], double dt, eff_set *effects)
+{
+    pcs_init_part(s, p, f, b, lo, hi, dt, effects, NULL);
+}
+
+void pcs_init_part(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b,
+                   const double lo[3], const double hi[3], double dt, eff_set *effects,
+                   struct pcd_plan *plan)
 {
     memset(s, 0, sizeof *s);
     s->prm = *p;
@@ -601,7 +613,9 @@ void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b, c
     s->b = b;
     s->eff = effects;
     krn_init(&s->k, s->h);
-    size_t max_cells = 8 * (f->n + b->n) + ((size_t)1 << 20);
+    const size_t max_cells = plan
+        ? pcs_grid_cells(pcd_plan_fluid_total(plan), pcd_plan_boundary_total(plan))
+        : pcs_grid_cells(f->n, b->n);
     nbr_grid_init(&s->grid, lo, hi, s->h, max_cells);
     nbr_list_init(&s->ff);
     nbr_list_init(&s->fb);
@@ -617,7 +631,8 @@ void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b, c
     s->cal.c_static /= p->mass_factor;
     bnd_set_mass(&s->grid, &s->k, &s->cal, p->rho0, b);
     dom_boundary_images_mass(&s->halo, &s->grid, &s->k, s->cal.c_static, b);
-    s->active = sl_alloc_aligned((b->n + 1) * sizeof *s->active, "active boundary list");
+    s->active_cap = b->n + 1;
+    s->active = sl_alloc_aligned(s->active_cap * sizeof *s->active, "active boundary list");
     for (size_t m = 0; m < sizeof method_passes / sizeof *method_passes; m++)
         if (method_passes[m].type == p->method) s->passes = &method_passes[m];
     if (!s->passes) sl_fatal("pcs_init: boundary method not in BND_METHODS");
@@ -633,8 +648,9 @@ void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b, c
     s->split.halo = pcx_usable(s);
     if (s->split.halo && pcd_usable(s)) { /* every rank keeps its own particles only */
         s->split.domain = 1;
-        pcd_init(s);
-    }
+        pcd_init(s, plan);
+    } else if (plan)
+        sl_fatal("pcs_init_part: a case built in parts needs the domain mode (internal error)");
     pcs_set_dt(s, dt);
 }
 
@@ -714,6 +730,11 @@ void pcs_find_neighbours(pcs_solver *s)
     if (s->split.domain) { /* migration, rebalancing, the halo from its owners */
         pcd_distribute(s);
         ensure_scratch(s);
+        if (s->active_cap < s->b->n + 1) { /* moving walls brought more boundary particles */
+            sl_free_aligned(s->active);
+            s->active_cap = s->b->cap + 1;
+            s->active = sl_alloc_aligned(s->active_cap * sizeof *s->active, "active boundary list");
+        }
     }
     PHASE(s, sort, nbr_sort_fluid(&s->grid, s->f));
     if (dom_halo_on(&s->halo)) { /* periodic images after the owned particles */

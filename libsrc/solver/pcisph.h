@@ -157,7 +157,7 @@ struct pcs_solver {
     nbr_grid grid;
     nbr_list ff, fb, bf;
     uint32_t *active;
-    size_t nactive;
+    size_t nactive, active_cap;
     double *err;       /* per-fluid-particle compression (scratch) */
     double *err_block; /* its sums by blocks of SL_REDUCE_BLOCK (last prediction) */
     double err_sum;    /* their sum in block order */
@@ -204,6 +204,16 @@ double pcs_delta(const krn_kernel *k, double r0, double mass, double rho0, doubl
  * effects (NULL: none, not even gravity; see effects/gravity.h). */
 void pcs_init(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b, const double lo[3],
               const double hi[3], double dt, eff_set *effects);
+/* pcs_init for a case built in parts (-parallel's domain mode,
+ * solver/pcs_domain.h pcd_plan; NULL: pcs_init): f and b hold this rank's
+ * share, the plan the cuts and the counts of the whole case. */
+struct pcd_plan;
+void pcs_init_part(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary *b,
+                   const double lo[3], const double hi[3], double dt, eff_set *effects,
+                   struct pcd_plan *plan);
+/* The neighbour grid's largest cell count for a case of nfluid and
+ * nboundary particles (the whole case's, on every rank alike). */
+size_t pcs_grid_cells(size_t nfluid, size_t nboundary);
 void pcs_free(pcs_solver *s);
 /* Change the time step; recomputes beta and delta (eq. 4, 5). */
 void pcs_set_dt(pcs_solver *s, double dt);

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "core/sl_log.h"
@@ -90,6 +91,11 @@ struct pcs_domain {
     int *pcnt, *pdis;
     pcd_counts c;
     double stored_sum, halo_sum;
+    /* the set-up: particles this rank held when the solver was made (the
+     * whole case, or built in parts its share), its peak memory then */
+    size_t setup_fluid, setup_boundary;
+    int parts;
+    double peak_setup;
 };
 
 /* ---- small helpers ---- */
@@ -335,15 +341,16 @@ static int stores_row(const struct pcs_domain *d, size_t k, int me)
     return 0;
 }
 
-/* At set-up every rank holds every boundary particle, sorted (for their
- * masses): it keeps those of its own and halo rows, in order, and its
- * arrays shrink to them. */
-static void keep_boundary_rows(pcs_solver *s, struct pcs_domain *d)
+/* At set-up a rank holds the boundary particles sorted, with their
+ * masses (every one of the case, or built in parts those of the rows
+ * around its own, pcd_plan): it keeps those of its own and halo rows, in
+ * order, and its arrays shrink to them. */
+static void keep_boundary_rows(pcs_solver *s, struct pcs_domain *d, size_t nb_global)
 {
     sl_boundary *b = s->b;
     nbr_grid *g = &s->grid;
     const int me = s->split.rank;
-    d->nb_global = b->n;
+    d->nb_global = nb_global;
     size_t j = 0;
     for (size_t i = 0; i < b->n; i++)
         if (stores_row(d, row_of(s, d, b->x[i], b->y[i], b->z[i]), me)) bmove_to(b, j++, i);
@@ -473,19 +480,21 @@ static void shrink(sl_fluid *f, size_t want)
  * tension reads its neighbours' normals, which read their neighbours: two
  * cells, and then every rank computes the boundary particles its rows see
  * (their lists are complete too).  SLUICE_PARALLEL_HALO_DEPTH=1|2 chooses. */
-static int halo_depth(const pcs_solver *s)
+static int halo_depth_of(const eff_set *eff, int reach)
 {
     const char *e = getenv("SLUICE_PARALLEL_HALO_DEPTH");
-    int cells = s->eff && eff_find(s->eff, "surfaceTension") ? 2 : 1;
+    int cells = eff && eff_find(eff, "surfaceTension") ? 2 : 1;
     if (e && *e) {
         cells = atoi(e);
         if (cells != 1 && cells != 2)
             sl_fatal("SLUICE_PARALLEL_HALO_DEPTH=%s: 1 or 2 (cells of halo)", e);
-        if (cells == 1 && s->eff && eff_find(s->eff, "surfaceTension"))
+        if (cells == 1 && eff && eff_find(eff, "surfaceTension"))
             sl_fatal("SLUICE_PARALLEL_HALO_DEPTH=1: surfaceTension needs 2 cells of halo");
     }
-    return cells * s->grid.reach;
+    return cells * reach;
 }
+
+static int halo_depth(const pcs_solver *s) { return halo_depth_of(s->eff, s->grid.reach); }
 
 /* The row tables of grid g and room for p ranks' cuts. */
 static struct pcs_domain *domain_new(const nbr_grid *g, int p, int depth)
@@ -558,10 +567,106 @@ void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t
     domain_free(d);
 }
 
-void pcd_init(pcs_solver *s)
+/* ---- set-up in parts (pcd_plan, case/case_part.h) ---- */
+
+struct pcd_plan {
+    nbr_grid grid;        /* the solver's grid (pcs_init_part makes the same again) */
+    struct pcs_domain *d; /* rows, counts, cuts: handed to the solver (pcd_init) */
+    int me, p, reach;
+    size_t nfluid, nboundary;
+    unsigned char *need; /* rows whose boundary particles the set-up needs */
+};
+
+int pcd_plan_usable(const pcs_params *p)
+{
+    const char *e = getenv("SLUICE_PARALLEL_EXCHANGE");
+    if (e && (!strcmp(e, "gather") || !strcmp(e, "halo"))) return 0;
+    return par_size() > 1 && !p->periodic.axes && !p->one_rank;
+}
+
+pcd_plan *pcd_plan_new(const pcs_params *prm, const eff_set *eff, const double lo[3],
+                       const double hi[3], size_t nfluid, size_t nboundary)
+{
+    pcd_plan *pl = sl_calloc(1, sizeof *pl, "set-up plan");
+    pl->me = par_rank();
+    pl->p = par_size();
+    pl->nfluid = nfluid;
+    pl->nboundary = nboundary;
+    nbr_grid_init(&pl->grid, lo, hi, pcs_support(prm), pcs_grid_cells(nfluid, nboundary));
+    pl->reach = pl->grid.reach;
+    pl->d = domain_new(&pl->grid, pl->p, halo_depth_of(eff, pl->reach));
+    return pl;
+}
+
+static size_t plan_row(const pcd_plan *pl, double x, double y, double z)
+{
+    return nbr_cell_rank(&pl->grid, x, y, z) / pl->d->nx;
+}
+
+void pcd_plan_count(pcd_plan *pl, double x, double y, double z)
+{
+    pl->d->rowcount[plan_row(pl, x, y, z)]++;
+}
+
+/* The cuts from the counts (every rank counted the whole case alike), and
+ * the rows whose boundary particles this rank makes: those within the
+ * halo depth of an own row (it stores them) and two supports more (their
+ * rest density reads their neighbours' masses, which read theirs). */
+void pcd_plan_cut(pcd_plan *pl)
+{
+    struct pcs_domain *d = pl->d;
+    d->imb_after = set_cuts(d, d->rowcount, pl->p);
+    const int R = d->depth + 2 * pl->reach;
+    pl->need = sl_calloc(d->nrows + 1, 1, "set-up rows");
+    for (size_t k = d->cut[pl->me]; k < d->cut[pl->me + 1]; k++)
+        for (int dz = -R; dz <= R; dz++)
+            for (int dy = -R; dy <= R; dy++) {
+                const int cy = d->ry[k] + dy, cz = d->rz[k] + dz;
+                if (cy < 0 || cz < 0 || cy >= d->ny || cz >= d->nz) continue;
+                pl->need[d->kof[(size_t)cy + (size_t)d->ny * (size_t)cz]] = 1;
+            }
+}
+
+int pcd_plan_fluid(const pcd_plan *pl, double x, double y, double z)
+{
+    return pl->d->owner[plan_row(pl, x, y, z)] == pl->me;
+}
+
+int pcd_plan_boundary(const pcd_plan *pl, double x, double y, double z)
+{
+    return pl->need[plan_row(pl, x, y, z)];
+}
+
+void pcd_plan_built(pcd_plan *pl)
+{
+    nbr_grid_free(&pl->grid);
+    free(pl->need);
+    pl->need = NULL;
+}
+
+void pcd_plan_free(pcd_plan *pl)
+{
+    if (!pl) return;
+    pcd_plan_built(pl);
+    if (pl->d) domain_free(pl->d);
+    free(pl);
+}
+
+size_t pcd_plan_fluid_total(const pcd_plan *pl) { return pl->nfluid; }
+size_t pcd_plan_boundary_total(const pcd_plan *pl) { return pl->nboundary; }
+
+/* Peak resident memory of this process so far (bytes). */
+static double rss_peak(void)
+{
+    struct rusage u;
+    return getrusage(RUSAGE_SELF, &u) ? 0.0 : 1024.0 * (double)u.ru_maxrss;
+}
+
+void pcd_init(pcs_solver *s, pcd_plan *plan)
 {
     const int p = s->split.size, me = s->split.rank;
-    struct pcs_domain *d = domain_new(&s->grid, p, halo_depth(s));
+    struct pcs_domain *d = plan ? plan->d : domain_new(&s->grid, p, halo_depth(s));
+    if (plan) plan->d = NULL;
     s->split.dd = d;
     const char *th = getenv("SLUICE_PARALLEL_REBALANCE");
     d->threshold = th && *th ? atof(th) : 0.05;
@@ -569,22 +674,30 @@ void pcd_init(pcs_solver *s)
         sl_fatal("SLUICE_PARALLEL_REBALANCE=%s: a fraction >= 0 is needed (0.05: rebalance when "
                  "the largest rank holds 5 %% more fluid than the mean)",
                  th);
-    /* every rank holds every particle: the same cuts everywhere */
     sl_fluid *f = s->f;
-    for (size_t i = 0; i < f->n; i++) d->rowcount[row_of(s, d, f->x[i], f->y[i], f->z[i])]++;
-    d->imb_after = set_cuts(d, d->rowcount, p);
+    d->setup_fluid = f->n;
+    d->setup_boundary = s->b->n;
+    d->parts = plan != NULL;
+    if (!plan) { /* every rank holds every particle: the same cuts everywhere */
+        for (size_t i = 0; i < f->n; i++) d->rowcount[row_of(s, d, f->x[i], f->y[i], f->z[i])]++;
+        d->imb_after = set_cuts(d, d->rowcount, p);
+    } /* else the plan's cuts, from the counts of the whole case */
     size_t j = 0;
     for (size_t i = 0; i < f->n; i++)
         if (d->owner[row_of(s, d, f->x[i], f->y[i], f->z[i])] == me) move_to(f, j++, i);
-    s->split.nglobal = f->n;
+    if (plan && j != f->n)
+        sl_fatal("pcs_domain: %zu of this rank's %zu fluid particles lie outside its rows "
+                 "(internal error)",
+                 f->n - j, f->n);
+    s->split.nglobal = plan ? plan->nfluid : f->n;
     f->n = j;
     d->nown = j;
     shrink(f, j + j / 4 + 1024); /* own and some halo; grows when it must */
     d->nsorted = 0;
     /* the boundary: own and halo rows; moving walls carry it across them */
     d->bmoving = s->eff && eff_find(s->eff, "movingBoundary");
-    s->split.nbglobal = s->b->n;
-    keep_boundary_rows(s, d);
+    s->split.nbglobal = plan ? plan->nboundary : s->b->n;
+    keep_boundary_rows(s, d, s->split.nbglobal);
     sl_free_aligned(s->split.bbuf); /* the gather mode's, sized for every boundary particle */
     s->split.bbuf = NULL;
     /* overlap: the rows that read no halo value computed while it travels
@@ -594,6 +707,7 @@ void pcd_init(pcs_solver *s)
         sl_fatal("SLUICE_PARALLEL_OVERLAP=%s: 0 (blocking exchanges) or 1 (overlap)", ov);
     s->split.overlap = !(ov && !strcmp(ov, "0")) && s->ndens == 0;
     d->with_b = d->bsend_own && s->prm.method->wall_density;
+    d->peak_setup = rss_peak();
 }
 
 void pcd_free(pcs_solver *s)
@@ -1460,6 +1574,18 @@ pcd_counts pcd_counters(const pcs_solver *s)
     c.bmigrated = par_sum_long(d->bmigrated);
     c.overlap = s->split.overlap;
     c.inner_share = -par_max_double(-d->inner_sum / searches);
+    c.parts = d->parts;
+    c.setup_fluid_max = (size_t)par_max_double((double)d->setup_fluid);
+    c.setup_fluid_min = (size_t)-par_max_double(-(double)d->setup_fluid);
+    c.setup_boundary_max = (size_t)par_max_double((double)d->setup_boundary);
+    c.setup_boundary_min = (size_t)-par_max_double(-(double)d->setup_boundary);
+    c.setup_fluid = d->setup_fluid;
+    c.setup_boundary = d->setup_boundary;
+    c.peak_setup_max = par_max_double(d->peak_setup);
+    c.peak_setup_min = -par_max_double(-d->peak_setup);
+    const double peak = rss_peak();
+    c.peak_max = par_max_double(peak);
+    c.peak_min = -par_max_double(-peak);
     if ((size_t)par_sum_long((long)d->nb_own) != d->nb_global)
         sl_fatal("pcs_domain: the ranks own %ld boundary particles of %zu (internal error)",
                  par_sum_long((long)d->nb_own), d->nb_global);

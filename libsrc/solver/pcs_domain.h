@@ -53,9 +53,33 @@
 
 /* Whether s (ranks > 1) can run in domain mode. */
 int pcd_usable(const pcs_solver *s);
-/* At set-up (every rank holds every particle): the cuts, and the rank
- * keeps its own particles. */
-void pcd_init(pcs_solver *s);
+/* A set-up in parts (case/case_part.h): no rank makes or reads the whole
+ * case.  The plan holds the solver's grid for the whole case's counts (the
+ * same grid pcs_init makes), every rank counts the fluid of the whole case
+ * by row (pcd_plan_count: generated again, or read from a restart file,
+ * without storing it), the cuts follow from the counts as pcd_init makes
+ * them from the particles, and the rank then stores the fluid of its own
+ * rows (pcd_plan_fluid) and the boundary particles of the rows within the
+ * halo depth and two supports of them (pcd_plan_boundary: the rows it
+ * stores, and those their masses and rest densities read), with the ids
+ * of the whole case.  pcd_plan_built drops the grid; pcs_init_part hands
+ * the cuts to the solver.  Usable where the domain mode is: ranks > 1, no
+ * periodic axis, SLUICE_PARALLEL_EXCHANGE neither gather nor halo. */
+typedef struct pcd_plan pcd_plan;
+int pcd_plan_usable(const pcs_params *p);
+pcd_plan *pcd_plan_new(const pcs_params *p, const eff_set *eff, const double lo[3],
+                       const double hi[3], size_t nfluid, size_t nboundary);
+void pcd_plan_count(pcd_plan *pl, double x, double y, double z);
+void pcd_plan_cut(pcd_plan *pl);
+int pcd_plan_fluid(const pcd_plan *pl, double x, double y, double z);
+int pcd_plan_boundary(const pcd_plan *pl, double x, double y, double z);
+void pcd_plan_built(pcd_plan *pl);
+void pcd_plan_free(pcd_plan *pl);
+size_t pcd_plan_fluid_total(const pcd_plan *pl);
+size_t pcd_plan_boundary_total(const pcd_plan *pl);
+/* At set-up: the cuts (from the particles, when every rank holds every
+ * one; or the plan's), and the rank keeps its own particles. */
+void pcd_init(pcs_solver *s, pcd_plan *plan);
 void pcd_free(pcs_solver *s);
 /* decomposeCase: the cuts this mode makes of s's fluid (sorted, in one
  * process) over p ranks: each particle's rank, and per rank the fluid
@@ -128,6 +152,13 @@ typedef struct pcd_counts {
      * ranks */
     int overlap;
     double inner_share;
+    /* the set-up: built in parts (pcd_plan) or whole; particles this rank
+     * held when the solver was made, and over the ranks; peak resident
+     * bytes (getrusage) at the end of the set-up and now, over the ranks */
+    int parts;
+    size_t setup_fluid, setup_boundary;
+    size_t setup_fluid_min, setup_fluid_max, setup_boundary_min, setup_boundary_max;
+    double peak_setup_min, peak_setup_max, peak_min, peak_max;
 } pcd_counts;
 pcd_counts pcd_counters(const pcs_solver *s);
 

@@ -25,6 +25,27 @@ static void snap_reserve(pcs_snapshot *s, size_t n)
     s->cap = n;
 }
 
+void snap_push(pcs_snapshot *s, double x, double y, double z, double vx, double vy, double vz,
+               uint32_t id)
+{
+    if (s->n == s->cap) { /* grow, keeping the contents */
+        pcs_snapshot g;
+        snap_init(&g);
+        snap_reserve(&g, s->cap ? 2 * s->cap : 1024);
+        const double *from[6] = {s->x, s->y, s->z, s->vx, s->vy, s->vz};
+        double *to[6] = {g.x, g.y, g.z, g.vx, g.vy, g.vz};
+        for (int k = 0; k < 6 && s->n; k++) memcpy(to[k], from[k], s->n * sizeof(double));
+        if (s->n) memcpy(g.id, s->id, s->n * sizeof *g.id);
+        g.n = s->n, g.time = s->time, g.dt = s->dt, g.step = s->step;
+        snap_free(s);
+        *s = g;
+    }
+    const size_t i = s->n++;
+    s->x[i] = x, s->y[i] = y, s->z[i] = z;
+    s->vx[i] = vx, s->vy[i] = vy, s->vz[i] = vz;
+    s->id[i] = id;
+}
+
 void snap_resize(pcs_snapshot *s, size_t n)
 {
     snap_reserve(s, n);

@@ -30,6 +30,9 @@ void snap_free(pcs_snapshot *s);
 void snap_take(pcs_snapshot *s, const sl_fluid *f, double time, double dt, long step);
 /* Room for n particles (contents lost when it grows); s->n = n. */
 void snap_resize(pcs_snapshot *s, size_t n);
+/* One particle appended (the buffers grow, keeping their contents). */
+void snap_push(pcs_snapshot *s, double x, double y, double z, double vx, double vy, double vz,
+               uint32_t id);
 /* Copy back into f (whose capacity must hold s->n particles). */
 void snap_restore(const pcs_snapshot *s, sl_fluid *f);
 /* -parallel's domain mode (solver/pcs_domain.h), where each rank holds

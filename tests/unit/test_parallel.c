@@ -93,6 +93,23 @@ static const char *dam =
     " gauges { type waterGauges; gaugeLocations ((0.2 0.3) (0.5 0.3)); }\\n"
     " energy { type energy; }\\n}\\n' >> system/controlDict";
 
+/* The End summary's set-up line says the case was built in parts, each of
+ * np ranks keeping at most 2 / np of the fluid (its own rows: 1 / np give
+ * or take the balance) and (fewer_walls) fewer boundary particles than the
+ * case (a small case's walls are all within reach of every rank's rows:
+ * the set-up reads the boundary within the halo and two supports). */
+static int setup_in_parts(const char *log, int np, int fewer_walls)
+{
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "sed -En 's/.*set-up in parts .*fluid min ([0-9]+), max ([0-9]+) of ([0-9]+), "
+             "boundary min ([0-9]+), max ([0-9]+) of ([0-9]+);.*/\\1 \\2 \\3 \\4 \\5 "
+             "\\6/p' %s | awk '{ n++; ok = $2 > 0 && %d * $2 <= 2 * $3 && $5 > 0 && (!%d || $5 < "
+             "$6) } END { exit !(n == 1 && ok) }'",
+             log, np, fewer_walls);
+    return system(cmd);
+}
+
 static void test_dam_break_np123(void **state)
 {
     (void)state;
@@ -110,6 +127,11 @@ static void test_dam_break_np123(void **state)
                             "tests/output/parDam3/log.pcisph | awk '{ exit !($1 < $2 && $3 == "
                             "0) }'"),
                      0);
+    /* built in parts: no rank made or read the whole case at the set-up
+     * ("set-up in parts ...: fluid min A, max B of N, boundary min C, max D
+     * of M"): its own fluid only (3 B < 2 N, a third each give or take the
+     * rows' balance), and fewer boundary particles than the case's */
+    assert_int_equal(setup_in_parts("tests/output/parDam3/log.pcisph", 3, 1), 0);
     /* the overlap (the default): rows that read no halo value computed
      * while x* and p/rho^2 travel; the blocking exchanges give the same bytes */
     assert_int_equal(system("grep -Eq 'overlap: [1-9][0-9]* % of the own rows' "
@@ -249,6 +271,8 @@ static void test_moving_boundary(void **state)
              "cmp parSloshSerial/0.3/boundary.vtu parSloshRestart/0.3/boundary.vtu",
              bin_dir());
     assert_int_equal(system(cmd), 0);
+    assert_int_equal(setup_in_parts("tests/output/parSlosh3/log.pcisph", 3, 0), 0);
+    assert_int_equal(setup_in_parts("tests/output/parSloshRestart/log.restart", 3, 0), 0);
 }
 
 /* The filling: the emitter adds the same particles on every rank, and the
@@ -327,6 +351,8 @@ static void test_restart_2_then_3(void **state)
              "> log.restart 2>&1 && grep -q 'Restarting from' log.restart",
              bin_dir());
     assert_int_equal(system(cmd), 0);
+    /* each of the 3 ranks read its part of the restart file (in chunks) */
+    assert_int_equal(setup_in_parts("tests/output/parRestart/log.restart", 3, 1), 0);
     assert_int_equal(system("cmp tests/output/parRestartSerial/0.04/fluid.vtu "
                             "tests/output/parRestart/0.04/fluid.vtu"),
                      0);
@@ -376,6 +402,11 @@ static void test_relaxed_packing(void **state)
     assert_int_equal(run_np("tests/cases/damBreakShort", "parRelax3", dam_relaxed, 3), 0);
     same_output("parRelaxSerial", "parRelax3");
     assert_int_equal(system("grep -q 'domain mode' tests/output/parRelax3/log.pcisph"), 0);
+    /* the documented exception: the relaxation needs the whole case on
+     * every rank (case_part.h) */
+    assert_int_equal(system("grep -q 'set-up whole (every rank built the whole case)' "
+                            "tests/output/parRelax3/log.pcisph"),
+                     0);
     const char *channel_relaxed =
         "sed -i 's/^endTime .*/endTime 0.1;/; s/^writeInterval .*/writeInterval 0.05;/; "
         "s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict && "

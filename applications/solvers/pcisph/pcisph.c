@@ -30,6 +30,7 @@
 #include "case/case.h"
 #include "case/case_lock.h"
 #include "case/case_output.h"
+#include "case/case_part.h"
 #include "case/case_step.h"
 #include "case/case_record.h"
 #include "case/case_restart.h"
@@ -104,6 +105,9 @@ typedef struct run {
     double wall0;
     double write_wall;      /* seconds spent writing time directories */
     double cpu0, write_cpu; /* process CPU seconds: at the loop's start, in writing */
+    char *restart_dir;      /* the time directory restarted from (NULL: none) */
+    pcs_snapshot heads[2];  /* built in parts: its snapshots' headers (case_part.h) */
+    int nheads;
 } run;
 
 static volatile sig_atomic_t stop_requested, write_requested;
@@ -361,20 +365,41 @@ static int restart_from_latest(run *r)
     char *dir = malloc(len);
     snprintf(dir, len, "%s/%s", r->c.dir, l.name[l.n - 1]);
     pcs_snapshot got[2] = {r->wsnap, hist_slot(&r->hist, 0)->snap};
-    rst_status st = rst_read(dir, got, 2, &nsnaps, r->blob, r->blob_size, &err);
-    r->wsnap = got[0];
-    hist_slot(&r->hist, 0)->snap = got[1];
+    rst_status st;
+    if (r->c.part) { /* built in parts: the headers now, each rank's records later */
+        snap_init(&r->heads[0]), snap_init(&r->heads[1]);
+        st = rst_probe(dir, r->heads, 2, &nsnaps, r->blob, r->blob_size, &err);
+        r->nheads = nsnaps;
+    } else {
+        st = rst_read(dir, got, 2, &nsnaps, r->blob, r->blob_size, &err);
+        r->wsnap = got[0];
+        hist_slot(&r->hist, 0)->snap = got[1];
+    }
     if (st != RST_OK) restart_refused(r, &l, st, &err);
     blob_unpack(r, nsnaps);
-    snap_restore(&r->wsnap, &r->c.fluid);
-    r->t = r->wsnap.time;
-    r->step = r->wsnap.step;
+    const pcs_snapshot *now = r->c.part ? &r->heads[0] : &r->wsnap;
+    if (!r->c.part) snap_restore(&r->wsnap, &r->c.fluid);
+    r->t = now->time;
+    r->step = now->step;
     r->c.ctl.start_time = r->t;
     precision_of(&r->c, r->t, l.name[l.n - 1]);
     sl_info("Restarting from %s (t = %.17g, step %ld)", dir, r->t, r->step);
-    free(dir);
+    r->restart_dir = dir;
     tdir_list_free(&l);
     return 1;
+}
+
+/* startFrom latestTime and a time directory to continue from (the
+ * restart itself may still be refused). */
+static int will_restart(const run *r)
+{
+    tdir_list l;
+    sl_err err;
+    if (r->c.ctl.start_from != CASE_LATEST_TIME) return 0;
+    if (tdir_list_read(r->c.dir, "fluid.vtu", &l, &err)) sl_fatal("%s", err.msg);
+    const int any = l.n > 0;
+    tdir_list_free(&l);
+    return any;
 }
 
 /* The run cannot go on: write the last good state (the start of the step
@@ -640,6 +665,15 @@ static void summary_parallel(const run *r, double wall)
                 "rank at the end %.1f-%.1f MB (particle arrays and neighbour lists %.1f-%.1f MB)",
                 dc.rebalances, dc.imbalance_max, dc.gathers, dc.gather_seconds, 1e-6 * dc.mem_min,
                 1e-6 * dc.mem_max, 1e-6 * dc.arrays_min, 1e-6 * dc.arrays_max);
+        sl_info("  parallel: set-up %s: particles made or read and kept per rank: fluid min %zu, "
+                "max %zu of %zu, boundary min %zu, max %zu of %zu; peak resident memory per rank "
+                "%.1f-%.1f MB at the end of the set-up, %.1f-%.1f MB over the run (getrusage)",
+                dc.parts ? "in parts (no rank built the whole case)"
+                         : "whole (every rank built the whole case)",
+                dc.setup_fluid_min, dc.setup_fluid_max, pcs_fluid_total(&r->s),
+                dc.setup_boundary_min, dc.setup_boundary_max, dc.nb_global,
+                1e-6 * dc.peak_setup_min, 1e-6 * dc.peak_setup_max, 1e-6 * dc.peak_min,
+                1e-6 * dc.peak_max);
     }
     if (sp->size == 1) sl_info("  parallel: one rank, nothing exchanged");
     else if (sp->domain)
@@ -823,6 +857,7 @@ static void free_state(run *r)
     hist_free(&r->hist);
     snap_free(&r->wsnap);
     free(r->blob);
+    free(r->restart_dir);
 }
 
 int main(int argc, char **argv)
@@ -838,11 +873,19 @@ int main(int argc, char **argv)
     if (r.resume) r.c.ctl.start_from = CASE_LATEST_TIME;
     if (r.c.ctl.nthreads > 0) omp_set_num_threads(r.c.ctl.nthreads);
     claim_case(&r);
-    case_build(&r.c);
+    /* -parallel's domain mode: no rank makes or reads the whole case (case_part.h) */
+    const int parts = r.parallel && case_part_applies(&r.c, will_restart(&r));
+    if (parts) case_part_census(&r.c);
+    else case_build(&r.c);
     alloc_state(&r);
     char rule[256] = "restart";
     r.t = r.origin = r.c.ctl.start_time;
     int restarted = r.c.ctl.start_from == CASE_LATEST_TIME && restart_from_latest(&r);
+    pcd_plan *plan = NULL;
+    if (parts)
+        plan =
+            case_part_build(&r.c, restarted ? r.restart_dir : NULL, r.heads, r.nheads,
+                            restarted && hist_last(&r.hist) ? &hist_slot(&r.hist, 0)->snap : NULL);
     if (!restarted) {
         ts_init(&r.ctl, case_initial_step(&r.c, rule, sizeof rule));
         r.before.t_first = r.t;
@@ -851,7 +894,9 @@ int main(int argc, char **argv)
     r.session.sessions = 1;
     fo_list *fo = fo_read(&r.c);
     if (!restarted && r.c.packing.relaxed) relax(&r);
-    pcs_init(&r.s, &r.c.prm, &r.c.fluid, &r.c.boundary, r.c.lo, r.c.hi, r.ctl.dt, &r.c.effects);
+    pcs_init_part(&r.s, &r.c.prm, &r.c.fluid, &r.c.boundary, r.c.lo, r.c.hi, r.ctl.dt, &r.c.effects,
+                  plan);
+    pcd_plan_free(plan);
     pcs_place_world(&r.s, r.t);
     if (restarted && hist_last(&r.hist)) /* domain mode: this rank's part of it */
         pcs_own_snapshot(&r.s, &hist_slot(&r.hist, 0)->snap);
