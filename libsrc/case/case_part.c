@@ -52,7 +52,7 @@ void case_part_census(sl_case *c)
 
 typedef struct scan_ctx {
     pcd_plan *plan;
-    sl_fluid *f;       /* the own records into it, or */
+    sl_fluid *f;        /* the own records into it, or */
     pcs_snapshot *snap; /* into it, or (both NULL) counted by row */
 } scan_ctx;
 
@@ -94,7 +94,8 @@ pcd_plan *case_part_build(sl_case *c, const char *restart, const pcs_snapshot *h
     }
     pcd_plan_cut(pl);
     prt_filter fluid = {keep_fluid, pl, 0}, boundary = {keep_boundary, pl, 0};
-    case_build_particles(c, &fluid, &boundary, restart ? CASE_BOUNDARY : CASE_FLUID | CASE_BOUNDARY);
+    case_build_particles(c, &fluid, &boundary,
+                         restart ? CASE_BOUNDARY : CASE_FLUID | CASE_BOUNDARY);
     if (c->nboundary != nb || (!restart && c->nfluid != nf))
         sl_fatal("%s: the case made %zu fluid and %zu boundary particles, then %zu and %zu "
                  "(internal error: its generators must be deterministic)",
