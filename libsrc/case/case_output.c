@@ -6,6 +6,7 @@
 #include "io/time_dir.h"
 #include "io/vtk_collection.h"
 #include "io/vtk_writer.h"
+#include "solver/pcs_domain.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -63,19 +64,38 @@ void out_free(case_output *o)
     memset(o, 0, sizeof *o);
 }
 
-static int write_fluid(const char *path, const pcs_solver *s, const vtk_options *opt, sl_err *err)
+/* -parallel's domain mode: the arrays streamed from the ranks in the
+ * serial order (pcd_output_source), never whole on rank 0. */
+static int write_fluid_streamed(const char *path, pcs_solver *s, const vtk_options *opt,
+                                sl_err *err)
 {
-    const sl_fluid *f = pcs_view_of(s).f; /* -parallel: the state gathered on rank 0 */
+    const int F = PCD_SET_FLUID;
+    vtk_stream_field fields[] = {
+        {"velocity", 3, VTK_FLOAT64, pcd_output_source(s, F, 3, PCD_VX, PCD_VY, PCD_VZ)},
+        {"pressure", 1, VTK_FLOAT64, pcd_output_source(s, F, 1, PCD_P, 0, 0)},
+        {"density", 1, VTK_FLOAT64, pcd_output_source(s, F, 1, PCD_RHO, 0, 0)},
+        {"densityError", 1, VTK_FLOAT64, pcd_output_source(s, F, 1, PCD_DERR, 0, 0)},
+        {"pressureRatio", 1, VTK_FLOAT64, pcd_output_source(s, F, 1, PCD_PR, 0, 0)},
+        {"id", 1, VTK_UINT32, pcd_output_source(s, F, 1, PCD_ID, 0, 0)},
+    };
+    return vtk_write_points_from(path, pcd_output_count(s, F),
+                                 pcd_output_source(s, F, 3, PCD_X, PCD_Y, PCD_Z), fields,
+                                 sizeof fields / sizeof *fields, opt, err);
+}
+
+static int write_fluid(const char *path, pcs_solver *s, const vtk_options *opt, sl_err *err)
+{
+    if (s->split.domain) return write_fluid_streamed(path, s, opt, err);
+    const sl_fluid *f = pcs_view_of(s).f; /* -parallel's halo and gather modes: every rank's */
     const double rho0 = s->prm.rho0;
     double *derr = sl_alloc_aligned(f->n * sizeof *derr, "density error output");
     double *pr = sl_alloc_aligned(f->n * sizeof *pr, "pressure ratio output");
     double pmax = 0.0;
     for (size_t i = 0; i < f->n; i++) {
-        derr[i] = 100.0 * (f->rho[i] - rho0) / rho0;
+        derr[i] = pcs_density_error_percent(f->rho[i], rho0);
         if (f->p[i] > pmax) pmax = f->p[i];
     }
-    /* the paper's Fig. 2 colouring: sqrt(p / p_max(t)) */
-    for (size_t i = 0; i < f->n; i++) pr[i] = pmax > 0.0 ? sqrt(f->p[i] / pmax) : 0.0;
+    for (size_t i = 0; i < f->n; i++) pr[i] = pcs_pressure_ratio(f->p[i], pmax);
     vtk_field fields[] = {
         {"velocity", 3, VTK_FLOAT64, {f->vx, f->vy, f->vz}},
         {"pressure", 1, VTK_FLOAT64, {f->p, NULL, NULL}},
@@ -109,11 +129,23 @@ static sl_boundary real_boundary(const sl_boundary *b)
     return r;
 }
 
-static int write_boundary(const char *path, const pcs_solver *s, const vtk_options *opt,
-                          sl_err *err)
+static int write_boundary(const char *path, pcs_solver *s, const vtk_options *opt, sl_err *err)
 {
+    if (s->split.domain) { /* streamed from the owners (no periodic image in this mode) */
+        const int B = PCD_SET_BOUNDARY;
+        vtk_stream_field fields[] = {
+            {"normal", 3, VTK_FLOAT64, pcd_output_source(s, B, 3, PCD_NX, PCD_NY, PCD_NZ)},
+            {"pressure", 1, VTK_FLOAT64, pcd_output_source(s, B, 1, PCD_P, 0, 0)},
+            {"density", 1, VTK_FLOAT64, pcd_output_source(s, B, 1, PCD_RHO, 0, 0)},
+            {"mass", 1, VTK_FLOAT64, pcd_output_source(s, B, 1, PCD_MASS, 0, 0)},
+            {"body", 1, VTK_UINT32, pcd_output_source(s, B, 1, PCD_BODY, 0, 0)},
+        };
+        return vtk_write_points_from(path, pcd_output_count(s, B),
+                                     pcd_output_source(s, B, 3, PCD_X, PCD_Y, PCD_Z), fields,
+                                     sizeof fields / sizeof *fields, opt, err);
+    }
     sl_boundary real;
-    const sl_boundary *b = pcs_view_of(s).b; /* -parallel: gathered on rank 0 */
+    const sl_boundary *b = pcs_view_of(s).b;
     if (b->nimages) {
         real = real_boundary(b);
         b = &real;
@@ -213,8 +245,8 @@ int out_discard_after(case_output *o, double t, sl_err *err)
     return o->n != n0 ? write_collections(o, err) : 0;
 }
 
-int out_write(case_output *o, const pcs_solver *s, double t, const pcs_snapshot *const *snaps,
-              int nsnaps, const void *ctrl, size_t ctrl_size, sl_err *err)
+int out_write(case_output *o, pcs_solver *s, double t, const rst_state *states, int nstates,
+              const void *ctrl, size_t ctrl_size, sl_err *err)
 {
     const case_controls *k = &o->c->ctl;
     char name[64], tmpname[96];
@@ -232,7 +264,7 @@ int out_write(case_output *o, const pcs_solver *s, double t, const pcs_snapshot 
     rc = tdir_mkdirs(tmp, err);
     if (!rc) rc = write_fluid(fpath, s, &opt, err);
     if (!rc && k->write_boundary) rc = write_boundary(bpath, s, &opt, err);
-    if (!rc && nsnaps) rc = rst_write(tmp, snaps, nsnaps, ctrl, ctrl_size, err);
+    if (!rc && nstates) rc = rst_write_states(tmp, states, nstates, ctrl, ctrl_size, err);
     if (!rc) {
         remove_dir(dir); /* an older run's directory of the same time */
         if (rename(tmp, dir) != 0) {

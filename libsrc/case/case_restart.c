@@ -64,19 +64,41 @@ static int get(gzFile g, void *data, size_t bytes)
     return 0;
 }
 
-static int put_snapshot(gzFile g, const pcs_snapshot *s)
+/* The pieces an array is written in (and read from its source in). */
+#define RST_PIECE 65536
+
+static int put_state(gzFile g, const rst_state *s, unsigned char *buf)
 {
     rst_snap_header h = {s->n, s->time, s->dt, s->step};
-    const size_t bytes = s->n * sizeof(double);
-    const double *a[6] = {s->x, s->y, s->z, s->vx, s->vy, s->vz};
     int rc = put(g, &h, sizeof h);
-    for (int k = 0; k < 6 && !rc; k++) rc = put(g, a[k], bytes);
-    if (!rc) rc = put(g, s->id, s->n * sizeof *s->id);
+    for (int k = 0; k < 7 && !rc; k++) {
+        const size_t bytes = s->n * (k < 6 ? sizeof(double) : sizeof(uint32_t));
+        for (size_t off = 0; off < bytes && !rc; off += RST_PIECE) {
+            const size_t len = bytes - off < RST_PIECE ? bytes - off : RST_PIECE;
+            s->col[k].read(s->col[k].ctx, off, len, buf);
+            rc = put(g, buf, len);
+        }
+    }
     return rc;
 }
 
-int rst_write(const char *dir, const pcs_snapshot *const *snaps, int nsnaps, const void *ctrl,
-              size_t ctrl_size, sl_err *err)
+static void read_memory(void *ctx, size_t off, size_t len, void *out)
+{
+    memcpy(out, (const unsigned char *)ctx + off, len);
+}
+
+void rst_state_of(rst_state *st, const pcs_snapshot *s)
+{
+    const void *a[7] = {s->x, s->y, s->z, s->vx, s->vy, s->vz, s->id};
+    st->n = s->n;
+    st->time = s->time;
+    st->dt = s->dt;
+    st->step = s->step;
+    for (int k = 0; k < 7; k++) st->col[k] = (sl_source){read_memory, (void *)a[k]};
+}
+
+int rst_write_states(const char *dir, const rst_state *states, int nstates, const void *ctrl,
+                     size_t ctrl_size, sl_err *err)
 {
     char *path = rst_path(dir, 1, err);
     if (!path) return 1;
@@ -84,17 +106,31 @@ int rst_write(const char *dir, const pcs_snapshot *const *snaps, int nsnaps, con
     gzFile g = gzopen(path, "wb1");
     int rc = g ? 0 : -1;
     rst_header h;
+    unsigned char *buf = sl_malloc(RST_PIECE, "restart output");
     memset(&h, 0, sizeof h);
     memcpy(h.magic, RST_MAGIC, strlen(RST_MAGIC));
-    h.nsnaps = (uint64_t)nsnaps;
+    h.nsnaps = (uint64_t)nstates;
     h.ctrl_size = ctrl_size;
     if (!rc) rc = put(g, &h, sizeof h);
-    for (int k = 0; k < nsnaps && !rc; k++) rc = put_snapshot(g, snaps[k]);
+    for (int k = 0; k < nstates && !rc; k++) rc = put_state(g, &states[k], buf);
     if (!rc && ctrl_size) rc = put(g, ctrl, ctrl_size);
     if (g && gzclose(g) != Z_OK) rc = -1;
     if (rc) sl_err_set(err, "cannot write '%s': %s", path, strerror(errno ? errno : EIO));
+    free(buf);
     free(path);
     return rc ? 1 : 0;
+}
+
+int rst_write(const char *dir, const pcs_snapshot *const *snaps, int nsnaps, const void *ctrl,
+              size_t ctrl_size, sl_err *err)
+{
+    rst_state st[RST_MAX_SNAPSHOTS];
+    if (nsnaps < 1 || nsnaps > RST_MAX_SNAPSHOTS) {
+        sl_err_set(err, "cannot write a restart file of %d states into '%s'", nsnaps, dir);
+        return 1;
+    }
+    for (int k = 0; k < nsnaps; k++) rst_state_of(&st[k], snaps[k]);
+    return rst_write_states(dir, st, nsnaps, ctrl, ctrl_size, err);
 }
 
 /* zlib's reason for the last failure, or "it ends early". */

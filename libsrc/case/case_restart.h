@@ -16,6 +16,7 @@
 #include <stddef.h>
 
 #include "core/sl_log.h"
+#include "core/sl_source.h"
 #include "solver/pcs_snapshot.h"
 
 #define RST_MAX_SNAPSHOTS 2
@@ -33,6 +34,22 @@ typedef enum {
  * directory's time, and ctrl (ctrl_size bytes). */
 int rst_write(const char *dir, const pcs_snapshot *const *snaps, int nsnaps, const void *ctrl,
               size_t ctrl_size, sl_err *err);
+/* One snapshot as the writer reads it: its header, and its seven arrays
+ * (x, y, z, vx, vy, vz: n doubles each; id: n uint32) from sources, read
+ * in bounded pieces (-parallel's domain mode streams them from the ranks,
+ * solver/pcs_domain.h).  rst_write is rst_write_states of the snapshots'
+ * arrays: the same pieces, so the same bytes. */
+typedef struct rst_state {
+    size_t n;
+    double time, dt;
+    long step;
+    sl_source col[7];
+} rst_state;
+int rst_write_states(const char *dir, const rst_state *states, int nstates, const void *ctrl,
+                     size_t ctrl_size, sl_err *err);
+/* The state of a snapshot in memory (its sources read s's arrays). */
+void rst_state_of(rst_state *st, const pcs_snapshot *s);
+
 /* Read <dir>/uniform/restart: up to max snapshots into snaps[] (their
  * number into *nsnaps), and the other state into ctrl, which must be
  * ctrl_size bytes (ctrl NULL: any size, not kept -- to check a file).

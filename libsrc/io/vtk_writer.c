@@ -43,11 +43,12 @@
 /* Values per line in ascii arrays. */
 #define VTK_ASCII_PER_LINE 6
 
-typedef enum { VTK_SRC_SOA, VTK_SRC_IOTA, VTK_SRC_CONST } vtk_src;
+typedef enum { VTK_SRC_SOA, VTK_SRC_IOTA, VTK_SRC_CONST, VTK_SRC_STREAM } vtk_src;
 
 /* One DataArray as streamed: the caller's component arrays (SOA), or a
  * generated integer sequence start, start + step, ... (IOTA) or the
- * constant start (CONST), for the vertex cells and the triangles' offsets. */
+ * constant start (CONST), for the vertex cells and the triangles' offsets,
+ * or the caller's source of the interleaved bytes (STREAM). */
 typedef struct vtk_array {
     const char *name;
     vtk_type type;
@@ -55,6 +56,7 @@ typedef struct vtk_array {
     size_t ntuples;
     vtk_src src;
     const void *comp[3];
+    const sl_source *stream;
     int64_t start, step;
     off_t slot;      /* file position of the blank offset slot */
     uint64_t offset; /* where the array starts in the appended data */
@@ -251,6 +253,11 @@ static void vtk_array_tuple(const vtk_array *a, size_t i, unsigned char *out)
 {
     size_t es = vtk_type_size(a->type);
     int64_t v;
+    if (a->src == VTK_SRC_STREAM) { /* read in order: tuples are asked for one after another */
+        const size_t ts = es * (size_t)a->ncomp;
+        a->stream->read(a->stream->ctx, i * ts, ts, out);
+        return;
+    }
     if (a->src == VTK_SRC_SOA) {
         for (int k = 0; k < a->ncomp; k++)
             memcpy(out + (size_t)k * es, (const unsigned char *)a->comp[k] + i * es, es);
@@ -273,6 +280,10 @@ static void vtk_array_bytes(const vtk_array *a, size_t off, size_t len, unsigned
     size_t i = off / ts, skip = off % ts;
     unsigned char tuple[VTK_MAX_TUPLE];
     if (len == 0) return;
+    if (a->src == VTK_SRC_STREAM) {
+        a->stream->read(a->stream->ctx, off, len, out);
+        return;
+    }
     if (a->src == VTK_SRC_SOA && a->ncomp == 1) {
         memcpy(out, (const unsigned char *)a->comp[0] + off, len);
         return;
@@ -565,6 +576,39 @@ int vtk_write_points(const char *path, size_t n, const double *x, const double *
     }
     if (vtk_check_input(path, n, x, y, z, fields, nfields, err)) return 1;
     vtk_piece_init(&p, n, x, y, z, fields, nfields, opt);
+    return vtk_write_piece(path, &p, opt, err);
+}
+
+int vtk_write_points_from(const char *path, size_t n, const sl_source *pos,
+                          const vtk_stream_field *fields, size_t nfields, const vtk_options *opt,
+                          sl_err *err)
+{
+    vtk_options def;
+    vtk_piece p;
+    static const double none = 0.0;
+    if (!opt) {
+        vtk_options_default(&def);
+        opt = &def;
+    }
+    if (n > 0 && (!pos || !pos->read)) {
+        sl_err_set(err, "cannot write '%s': point positions missing", path);
+        return 1;
+    }
+    /* checked and laid out as array fields, then pointed at the sources */
+    vtk_field *af = sl_calloc(nfields + 1, sizeof *af, "VTK fields");
+    for (size_t i = 0; i < nfields; i++) {
+        af[i] = (vtk_field){fields[i].name, fields[i].ncomp, fields[i].type, {&none, &none, &none}};
+        if (n > 0 && (!fields[i].src || !fields[i].src->read)) af[i].comp[0] = NULL;
+    }
+    int rc = vtk_check_input(path, n, &none, &none, &none, af, nfields, err);
+    if (!rc) vtk_piece_init(&p, n, &none, &none, &none, af, nfields, opt);
+    free(af);
+    if (rc) return 1;
+    for (size_t i = 0; i <= nfields; i++) { /* the fields, then "Points" */
+        vtk_array *a = p.arr + p.nfield_data + i;
+        a->src = VTK_SRC_STREAM;
+        a->stream = i < nfields ? fields[i].src : pos;
+    }
     return vtk_write_piece(path, &p, opt, err);
 }
 

@@ -19,6 +19,7 @@
 #include <stdio.h>
 
 #include "core/sl_log.h"
+#include "core/sl_source.h"
 
 typedef enum { VTK_FLOAT64, VTK_FLOAT32, VTK_INT32, VTK_UINT32, VTK_INT64, VTK_UINT8 } vtk_type;
 
@@ -31,6 +32,17 @@ typedef struct vtk_field {
     vtk_type type;
     const void *comp[3];
 } vtk_field;
+
+/* A point-data field streamed: its bytes in VTK's layout (n tuples of ncomp
+ * interleaved values) from src, read once, in order, one block (ascii: one
+ * tuple) at a time; the file is the same bytes as from arrays holding
+ * those values. */
+typedef struct vtk_stream_field {
+    const char *name;
+    int ncomp;
+    vtk_type type;
+    const sl_source *src;
+} vtk_stream_field;
 
 typedef struct vtk_options {
     int ascii;         /* 0: appended raw binary (no base64); 1: ascii */
@@ -52,6 +64,12 @@ void vtk_options_default(vtk_options *o);
  * and no file left behind (an existing <path> is left untouched). */
 int vtk_write_points(const char *path, size_t n, const double *x, const double *y, const double *z,
                      const vtk_field *fields, size_t nfields, const vtk_options *opt, sl_err *err);
+
+/* The same with every array streamed: pos gives the n (x, y, z) Float64
+ * tuples in VTK's layout (see vtk_stream_field). */
+int vtk_write_points_from(const char *path, size_t n, const sl_source *pos,
+                          const vtk_stream_field *fields, size_t nfields, const vtk_options *opt,
+                          sl_err *err);
 
 /* Write a PolyData of n points and ntri triangles (tri[3 t + k]: 0-based
  * point indices, written as Int64 "connectivity" with "offsets" 3, 6, ...)

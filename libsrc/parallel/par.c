@@ -438,3 +438,23 @@ double par_recv_double(int from)
 #endif
     return v;
 }
+
+void par_send_bytes(const void *buf, size_t n, int to, int tag)
+{
+#ifdef SL_HAVE_MPI
+    if (n > 2147483647u) sl_fatal("-parallel: a message of %zu bytes exceeds MPI's int counts", n);
+    COUNTED(0, 0, MPI_Send(buf, (int)n, MPI_BYTE, to, tag, MPI_COMM_WORLD));
+#else
+    (void)buf, (void)n, (void)to, (void)tag;
+#endif
+}
+
+void par_recv_bytes(void *buf, size_t n, int from, int tag)
+{
+#ifdef SL_HAVE_MPI
+    if (n > 2147483647u) sl_fatal("-parallel: a message of %zu bytes exceeds MPI's int counts", n);
+    COUNTED(1, n, MPI_Recv(buf, (int)n, MPI_BYTE, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE));
+#else
+    (void)buf, (void)n, (void)from, (void)tag;
+#endif
+}

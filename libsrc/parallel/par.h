@@ -74,6 +74,11 @@ void par_exchange_wait(void);
 /* One double to / from one rank (blocking; a chain of running sums). */
 void par_send_double(double v, int to);
 double par_recv_double(int from);
+/* Bytes to / from one rank (blocking; rank 0's streamed output asks the
+ * other ranks for their parts piece by piece, solver/pcs_domain.h).  The
+ * tag keeps requests and replies apart; the receiver knows the size. */
+void par_send_bytes(const void *buf, size_t n, int to, int tag);
+void par_recv_bytes(void *buf, size_t n, int from, int tag);
 /* One long per rank to every rank: all[r] is rank r's v. */
 void par_allgather_long(long v, long *all);
 /* Every rank's v[0..n) summed (exact) / maximised, in place, on every rank. */

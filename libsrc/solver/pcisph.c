@@ -1024,10 +1024,7 @@ void pcs_compute_density(pcs_solver *s)
     ensure_scratch(s);
     pcs_find_neighbours(s);
     s->passes->density(s);
-    if (s->split.domain) { /* the own rows, then the whole state on rank 0 */
-        pcd_keep_own(s);
-        pcd_gather(s);
-    }
+    if (s->split.domain) pcd_keep_own(s); /* the own rows (output streams them: pcd_output_begin) */
 }
 
 size_t pcs_fluid_total(const pcs_solver *s) { return s->split.domain ? s->split.nglobal : s->f->n; }

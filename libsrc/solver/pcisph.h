@@ -21,6 +21,7 @@
 #ifndef SL_PCISPH_H
 #define SL_PCISPH_H
 
+#include <math.h>
 #include <stddef.h>
 
 #include "boundary/bnd_method.h"
@@ -226,8 +227,21 @@ void pcs_pass_pressure(pcs_solver *s);
 
 /* Density of every fluid particle from the current positions x(t) (for
  * output; uses the lists of the last step or rebuilds them).  -parallel's
- * domain mode: the state is then gathered on rank 0 (pcs_view_of). */
+ * domain mode: each rank's own particles (output streams them to rank 0,
+ * pcd_output_begin). */
 void pcs_compute_density(pcs_solver *s);
+
+/* fluid.vtu's derived fields, per particle (the same expressions for the
+ * serial and the streamed -parallel output): densityError in percent of
+ * rho0, and the paper's Fig. 2 colouring sqrt(p / p_max(t)). */
+static inline double pcs_density_error_percent(double rho, double rho0)
+{
+    return 100.0 * (rho - rho0) / rho0;
+}
+static inline double pcs_pressure_ratio(double p, double pmax)
+{
+    return pmax > 0.0 ? sqrt(p / pmax) : 0.0;
+}
 
 /* The fluid particles of the case (all ranks'; s->f->n is this rank's in
  * -parallel's domain mode). */
@@ -237,8 +251,8 @@ size_t pcs_fluid_total(const pcs_solver *s);
 size_t pcs_boundary_total(const pcs_solver *s);
 /* -parallel's domain mode (collective; nothing otherwise): the state of
  * every rank gathered on rank 0 in the serial order, where pcs_view_of
- * shows it to function objects and output (done by pcs_compute_density
- * too; nothing when already gathered since the last step). */
+ * shows it to function objects (nothing when already gathered since the
+ * last step; output does not gather, it streams: pcd_output_begin). */
 void pcs_gather(pcs_solver *s);
 
 #endif

@@ -90,7 +90,10 @@ struct pcs_domain {
     int *pcnt, *pdis;
     pcd_counts c;
     double stored_sum, halo_sum;
+    struct pcd_out *out; /* streamed output (pcd_output_begin .. end) */
 };
+
+static void out_free(struct pcd_out *o);
 
 /* ---- small helpers ---- */
 
@@ -627,6 +630,7 @@ static void domain_free(struct pcs_domain *d)
     sl_free_aligned(d->gbuf);
     free(d->tail);
     snap_free(&d->full);
+    out_free(d->out);
     free(d);
 }
 
@@ -1267,7 +1271,7 @@ void pcd_gather(pcs_solver *s)
 {
     struct pcs_domain *d = s->split.dd;
     if (d->fresh) return;
-    const double t0 = omp_get_wtime(), c0 = par_counters().seconds;
+    const double t0 = omp_get_wtime(), c0 = par_counters().seconds, b0 = par_counters().bytes;
     const int p = s->split.size, me = s->split.rank;
     const sl_fluid *f = s->f;
     const size_t n = f->n, ns = d->nsorted < n ? d->nsorted : n;
@@ -1337,6 +1341,7 @@ void pcd_gather(pcs_solver *s)
     d->fresh = 1;
     d->c.gathers++;
     d->c.gather_seconds += omp_get_wtime() - t0;
+    d->c.gather_bytes += par_counters().bytes - b0;
     s->time.comm += par_counters().seconds - c0;
 }
 
@@ -1418,6 +1423,20 @@ void pcd_localize_snapshot(const pcs_solver *s, pcs_snapshot *snap)
     snap->n = j;
 }
 
+/* The peak resident memory of this process (VmHWM, bytes; 0 where /proc
+ * is not). */
+static double rss_peak(void)
+{
+    FILE *fp = fopen("/proc/self/status", "r");
+    char line[256];
+    double kb = 0.0;
+    if (!fp) return 0.0;
+    while (fgets(line, sizeof line, fp))
+        if (!strncmp(line, "VmHWM:", 6)) kb = atof(line + 6);
+    fclose(fp);
+    return 1024.0 * kb;
+}
+
 /* The resident memory of this process now (bytes; 0 where /proc is not). */
 static double rss_now(void)
 {
@@ -1445,6 +1464,11 @@ pcd_counts pcd_counters(const pcs_solver *s)
     const double mem = rss_now();
     c.mem_max = par_max_double(mem);
     c.mem_min = -par_max_double(-mem);
+    const double hwm = rss_peak();
+    c.peak_root = hwm;
+    par_bcast(&c.peak_root, sizeof c.peak_root);
+    c.peak_others_max = par_max_double(s->split.rank ? hwm : 0.0);
+    c.peak_others_min = -par_max_double(s->split.rank ? -hwm : -1e300);
     const nbr_list *ls[3] = {&s->ff, &s->fb, &s->bf};
     double arrays = (double)s->f->cap * PRT_FLUID_BYTES + (double)s->b->cap * PRT_BOUNDARY_BYTES;
     for (int k = 0; k < 3; k++) arrays += 4.0 * (double)(ls[k]->rows_cap + ls[k]->idx_cap);
@@ -1465,4 +1489,438 @@ pcd_counts pcd_counters(const pcs_solver *s)
                  par_sum_long((long)d->nb_own), d->nb_global);
     (void)stored;
     return c;
+}
+
+/* ---- streamed output: rank 0 writes, the others serve their parts ---- */
+
+/* Tuples of the window rank 0 holds of the array it is writing: every
+ * array of a file passes through it (x, y, z of 16384 particles: 384 KiB);
+ * SLUICE_PARALLEL_OUTPUT_WINDOW sets another (the tests' small windows
+ * cross every rank's part). */
+#define OUT_WINDOW      16384
+#define OUT_MAX_STREAMS 40
+#define TAG_ASK         21
+#define TAG_PART        22
+
+typedef struct pcd_stream {
+    pcs_solver *s;
+    int set, ncomp, col[3];
+    size_t tsz; /* bytes per tuple */
+    sl_source src;
+} pcd_stream;
+
+/* A particle emitted since the last sort: serial appends them by id. */
+typedef struct out_tail {
+    uint32_t id, rank;
+    uint64_t local;
+} out_tail;
+
+/* The boundary's own particles in the serial order: key (cell, id). */
+typedef struct out_bkey {
+    uint64_t key;
+    uint32_t j;
+} out_bkey;
+
+struct pcd_out {
+    int active;
+    size_t *off[3]; /* per set: rank r's tuples are [off[r], off[r+1]) (sorted fluid only) */
+    size_t total[3];
+    out_tail *tail;
+    size_t ntail, tail_cap;
+    double *tbuf;
+    size_t tbuf_cap;
+    uint32_t *bperm; /* this rank's own boundary particles in the serial order */
+    out_bkey *bkey;
+    size_t bperm_cap;
+    const pcs_snapshot *prev;
+    double pmax;
+    pcd_stream st[OUT_MAX_STREAMS];
+    int nst;
+    unsigned char *win;
+    const pcd_stream *wcur;
+    size_t w0, wn, window;
+    double bytes0, t0;
+};
+
+static void out_free(struct pcd_out *o)
+{
+    if (!o) return;
+    for (int k = 0; k < 3; k++) free(o->off[k]);
+    free(o->tail), sl_free_aligned(o->tbuf), free(o->bperm), free(o->bkey), free(o->win);
+    free(o);
+}
+
+static size_t col_size(int c) { return c == PCD_ID || c == PCD_BODY ? 4 : 8; }
+
+static int cmp_bkey(const void *a, const void *b)
+{
+    const uint64_t x = ((const out_bkey *)a)->key, y = ((const out_bkey *)b)->key;
+    return (x > y) - (x < y);
+}
+
+static int cmp_tail(const void *a, const void *b)
+{
+    const out_tail *x = a, *y = b;
+    return (x->id > y->id) - (x->id < y->id);
+}
+
+/* Tuples [first, first + count) of set `set`, this rank's part, packed as
+ * VTK lays them out (components interleaved). */
+static void out_pack(const pcs_solver *s, const struct pcd_out *o, int set, int ncomp,
+                     const int *col, size_t first, size_t count, unsigned char *out)
+{
+    const sl_fluid *f = s->f;
+    const sl_boundary *b = s->b;
+    const pcs_snapshot *q = o->prev;
+    const double rho0 = s->prm.rho0;
+    for (size_t i = first; i < first + count; i++)
+        for (int k = 0; k < ncomp; k++) {
+            const int c = col[k];
+            double v = 0.0;
+            uint32_t u = 0;
+            if (set == PCD_SET_FLUID) {
+                switch (c) {
+                case PCD_X:
+                    v = f->x[i];
+                    break;
+                case PCD_Y:
+                    v = f->y[i];
+                    break;
+                case PCD_Z:
+                    v = f->z[i];
+                    break;
+                case PCD_VX:
+                    v = f->vx[i];
+                    break;
+                case PCD_VY:
+                    v = f->vy[i];
+                    break;
+                case PCD_VZ:
+                    v = f->vz[i];
+                    break;
+                case PCD_P:
+                    v = f->p[i];
+                    break;
+                case PCD_RHO:
+                    v = f->rho[i];
+                    break;
+                case PCD_DERR:
+                    v = pcs_density_error_percent(f->rho[i], rho0);
+                    break;
+                case PCD_PR:
+                    v = pcs_pressure_ratio(f->p[i], o->pmax);
+                    break;
+                case PCD_ID:
+                    u = f->id[i];
+                    break;
+                default:
+                    sl_fatal("pcs_domain: fluid output column %d (internal error)", c);
+                }
+            } else if (set == PCD_SET_BOUNDARY) {
+                const size_t j = o->bperm[i];
+                switch (c) {
+                case PCD_X:
+                    v = b->x[j];
+                    break;
+                case PCD_Y:
+                    v = b->y[j];
+                    break;
+                case PCD_Z:
+                    v = b->z[j];
+                    break;
+                case PCD_NX:
+                    v = b->nx[j];
+                    break;
+                case PCD_NY:
+                    v = b->ny[j];
+                    break;
+                case PCD_NZ:
+                    v = b->nz[j];
+                    break;
+                case PCD_P:
+                    v = b->p[j];
+                    break;
+                case PCD_RHO:
+                    v = b->rho[j];
+                    break;
+                case PCD_MASS:
+                    v = b->mass[j];
+                    break;
+                case PCD_BODY:
+                    u = b->body[j];
+                    break;
+                default:
+                    sl_fatal("pcs_domain: boundary output column %d (internal error)", c);
+                }
+            } else {
+                switch (c) {
+                case PCD_X:
+                    v = q->x[i];
+                    break;
+                case PCD_Y:
+                    v = q->y[i];
+                    break;
+                case PCD_Z:
+                    v = q->z[i];
+                    break;
+                case PCD_VX:
+                    v = q->vx[i];
+                    break;
+                case PCD_VY:
+                    v = q->vy[i];
+                    break;
+                case PCD_VZ:
+                    v = q->vz[i];
+                    break;
+                case PCD_ID:
+                    u = q->id[i];
+                    break;
+                default:
+                    sl_fatal("pcs_domain: snapshot output column %d (internal error)", c);
+                }
+            }
+            if (col_size(c) == 4) memcpy(out, &u, 4), out += 4;
+            else memcpy(out, &v, 8), out += 8;
+        }
+}
+
+/* Tuples [first, first + count) of rank r's part, into out: packed here,
+ * or asked of rank r (one request, one reply). */
+static void out_get(pcs_solver *s, struct pcd_out *o, const pcd_stream *st, int r, size_t first,
+                    size_t count, unsigned char *out)
+{
+    if (!count) return;
+    if (r == s->split.rank) {
+        out_pack(s, o, st->set, st->ncomp, st->col, first, count, out);
+        return;
+    }
+    const int64_t ask[7] = {1,          st->set,    st->ncomp,     st->col[0],
+                            st->col[1], st->col[2], (int64_t)first};
+    const int64_t ask2[8] = {ask[0], ask[1], ask[2], ask[3],
+                             ask[4], ask[5], ask[6], (int64_t)count};
+    par_send_bytes(ask2, sizeof ask2, r, TAG_ASK);
+    par_recv_bytes(out, count * st->tsz, r, TAG_PART);
+}
+
+/* The window: the stream's tuples [t, t + OUT_WINDOW) in the serial order
+ * (rank by rank; then the particles emitted since the last sort, by id). */
+static void out_fill(pcs_solver *s, struct pcd_out *o, const pcd_stream *st, size_t t)
+{
+    const int p = s->split.size;
+    const size_t *off = o->off[st->set], nsorted = off[p];
+    const size_t end = t + o->window < o->total[st->set] ? t + o->window : o->total[st->set];
+    size_t g = t;
+    int r = 0;
+    while (g < end && g < nsorted) {
+        while (off[r + 1] <= g) r++;
+        const size_t c = (off[r + 1] < end ? off[r + 1] : end) - g;
+        out_get(s, o, st, r, g - off[r], c, o->win + (g - t) * st->tsz);
+        g += c;
+    }
+    while (g < end) { /* the tail: runs of one rank's consecutive particles */
+        const out_tail *e = &o->tail[g - nsorted];
+        size_t c = 1;
+        while (g + c < end && e[c].rank == e->rank && e[c].local == e->local + c) c++;
+        out_get(s, o, st, (int)e->rank, (size_t)e->local, c, o->win + (g - t) * st->tsz);
+        g += c;
+    }
+    o->wcur = st;
+    o->w0 = t;
+    o->wn = end - t;
+}
+
+static void out_read(void *ctx, size_t off, size_t len, void *dst)
+{
+    const pcd_stream *st = ctx;
+    pcs_solver *s = st->s;
+    struct pcd_out *o = s->split.dd->out;
+    unsigned char *out = dst;
+    while (len > 0) {
+        const size_t t = off / st->tsz;
+        if (o->wcur != st || t < o->w0 || t >= o->w0 + o->wn) out_fill(s, o, st, t);
+        if (!o->wn) sl_fatal("pcs_domain: output read past the end (internal error)");
+        const size_t wend = (o->w0 + o->wn) * st->tsz;
+        const size_t take = len < wend - off ? len : wend - off;
+        memcpy(out, o->win + (off - o->w0 * st->tsz), take);
+        out += take;
+        off += take;
+        len -= take;
+    }
+}
+
+/* The prefix offsets of one count per rank. */
+static void out_offsets(struct pcd_out *o, int set, const long *all, int p)
+{
+    if (!o->off[set]) o->off[set] = sl_malloc(((size_t)p + 1) * sizeof *o->off[set], "output");
+    o->off[set][0] = 0;
+    for (int r = 0; r < p; r++) o->off[set][r + 1] = o->off[set][r] + (size_t)all[r];
+}
+
+int pcd_output_begin(pcs_solver *s, const pcs_snapshot *prev)
+{
+    struct pcs_domain *d = s->split.dd;
+    const double t0 = omp_get_wtime(), c0 = par_counters().seconds;
+    const int p = s->split.size, me = s->split.rank;
+    if (!d->out) {
+        d->out = sl_calloc(1, sizeof *d->out, "output");
+        const char *w = getenv("SLUICE_PARALLEL_OUTPUT_WINDOW");
+        d->out->window = w && *w ? (size_t)atol(w) : OUT_WINDOW;
+        if (!(w && *w ? atol(w) >= 1 && atol(w) <= 1L << 26 : 1))
+            sl_fatal("SLUICE_PARALLEL_OUTPUT_WINDOW=%s: the particles rank 0 holds of an "
+                     "array it writes, 1 to 67108864 (default %d)",
+                     w, OUT_WINDOW);
+        d->out->win = sl_malloc(d->out->window * 3 * sizeof(double), "output window");
+    }
+    struct pcd_out *o = d->out;
+    o->bytes0 = par_counters().bytes;
+    o->t0 = t0;
+    const sl_fluid *f = s->f;
+    const size_t n = f->n, ns = d->nsorted < n ? d->nsorted : n;
+    /* the counts: sorted fluid, all fluid, own boundary, the snapshot */
+    par_allgather_long((long)ns, d->all_s);
+    out_offsets(o, PCD_SET_FLUID, d->all_s, p);
+    par_allgather_long((long)n, d->all_n);
+    size_t nt = 0, nall = 0;
+    for (int r = 0; r < p; r++) nall += (size_t)d->all_n[r];
+    o->total[PCD_SET_FLUID] = nall;
+    nt = nall - o->off[PCD_SET_FLUID][p];
+    /* the tail's ids on rank 0, ordered as the serial code appends them */
+    for (int r = 0; r < p; r++) {
+        d->pcnt[r] = as_int((size_t)(d->all_n[r] - d->all_s[r]));
+        d->pdis[r] = r ? d->pdis[r - 1] + d->pcnt[r - 1] : 0;
+    }
+    o->tbuf = grow(o->tbuf, &o->tbuf_cap, (n - ns) + nt + 1, sizeof *o->tbuf, "output order");
+    double *mine = o->tbuf, *all = o->tbuf + (n - ns);
+    for (size_t i = ns; i < n; i++) mine[i - ns] = (double)f->id[i];
+    if (nt) par_gatherv_root(mine, d->pcnt[me], all, d->pcnt, d->pdis);
+    o->ntail = 0;
+    if (!me && nt) {
+        if (o->tail_cap < nt) {
+            free(o->tail);
+            o->tail_cap = nt + nt / 4;
+            o->tail = sl_malloc(o->tail_cap * sizeof *o->tail, "output order");
+        }
+        for (int r = 0; r < p; r++)
+            for (int k = 0; k < d->pcnt[r]; k++)
+                o->tail[o->ntail++] = (out_tail){(uint32_t)all[d->pdis[r] + k], (uint32_t)r,
+                                                 (uint64_t)d->all_s[r] + (uint64_t)k};
+        qsort(o->tail, o->ntail, sizeof *o->tail, cmp_tail);
+    }
+    /* the largest pressure (the pressure ratio's scale): a max, exact */
+    double pmax = 0.0;
+    for (size_t i = 0; i < n; i++)
+        if (f->p[i] > pmax) pmax = f->p[i];
+    o->pmax = par_max_double(pmax);
+    /* the own boundary particles by (cell, creation index) */
+    const sl_boundary *b = s->b;
+    const size_t nb = d->nb_own;
+    if (o->bperm_cap < nb + 1) {
+        free(o->bperm), free(o->bkey);
+        o->bperm_cap = nb + nb / 4 + 1;
+        o->bperm = sl_malloc(o->bperm_cap * sizeof *o->bperm, "output order");
+        o->bkey = sl_malloc(o->bperm_cap * sizeof *o->bkey, "output order");
+    }
+    size_t m = 0;
+    for (size_t j = 0; j < b->n; j++) {
+        if (!own_boundary(d, b->id[j])) continue;
+        if (m == nb) break;
+        o->bkey[m++] = (out_bkey){
+            (uint64_t)nbr_cell_rank(&s->grid, b->x[j], b->y[j], b->z[j]) << 32 | b->id[j],
+            (uint32_t)j};
+    }
+    if (m != nb)
+        sl_fatal("pcs_domain: %zu own boundary particles stored of %zu (internal error)", m, nb);
+    qsort(o->bkey, nb, sizeof *o->bkey, cmp_bkey);
+    for (size_t q = 0; q < nb; q++) o->bperm[q] = o->bkey[q].j;
+    par_allgather_long((long)nb, d->all_n);
+    out_offsets(o, PCD_SET_BOUNDARY, d->all_n, p);
+    o->total[PCD_SET_BOUNDARY] = o->off[PCD_SET_BOUNDARY][p];
+    /* rank order is the serial order when each rank's keys follow the
+     * lower ranks' (own rows are a run of cells): checked */
+    double ends[2] = {nb ? (double)(o->bkey[0].key >> 32) : -1.0,
+                      nb ? (double)(o->bkey[nb - 1].key >> 32) : -1.0};
+    o->tbuf = grow(o->tbuf, &o->tbuf_cap, 2 * (size_t)p + 1, sizeof *o->tbuf, "output order");
+    for (int r = 0; r < p; r++) d->pcnt[r] = 2, d->pdis[r] = 2 * r;
+    par_gatherv_root(ends, 2, o->tbuf, d->pcnt, d->pdis);
+    if (!me) {
+        double last = -1.0;
+        for (int r = 0; r < p; r++) {
+            if (o->tbuf[2 * r] < 0.0) continue;
+            if (o->tbuf[2 * r] < last)
+                sl_fatal("pcs_domain: rank %d's boundary particles are not after rank %d's in the "
+                         "grid's order (internal error)",
+                         r, r - 1);
+            last = o->tbuf[2 * r + 1];
+        }
+    }
+    /* the snapshot of the start of the step before (restart files) */
+    o->prev = prev;
+    par_allgather_long(prev ? (long)prev->n : 0L, d->all_n);
+    out_offsets(o, PCD_SET_PREV, d->all_n, p);
+    o->total[PCD_SET_PREV] = o->off[PCD_SET_PREV][p];
+    o->nst = 0;
+    o->wcur = NULL;
+    o->wn = 0;
+    o->active = 1;
+    d->c.out_window = o->window;
+    if (!me) return 1;
+    /* the others serve their parts until rank 0 is done */
+    unsigned char *buf = o->win;
+    for (;;) {
+        int64_t ask[8];
+        par_recv_bytes(ask, sizeof ask, 0, TAG_ASK);
+        if (!ask[0]) break;
+        const int col[3] = {(int)ask[3], (int)ask[4], (int)ask[5]};
+        size_t tsz = 0;
+        for (int k = 0; k < (int)ask[2]; k++) tsz += col_size(col[k]);
+        const size_t first = (size_t)ask[6], count = (size_t)ask[7];
+        const size_t have = ask[1] == PCD_SET_FLUID ? n
+            : ask[1] == PCD_SET_BOUNDARY            ? nb
+                                                    : (prev ? prev->n : 0);
+        if (ask[2] < 1 || ask[2] > 3 || count > o->window || first + count > have)
+            sl_fatal("pcs_domain: an output request for tuples %zu-%zu of %zu (internal error)",
+                     first, first + count, have);
+        out_pack(s, o, (int)ask[1], (int)ask[2], col, first, count, buf);
+        par_send_bytes(buf, count * tsz, 0, TAG_PART);
+    }
+    o->active = 0;
+    d->c.out_seconds += omp_get_wtime() - t0;
+    s->time.comm += par_counters().seconds - c0;
+    return 0;
+}
+
+const sl_source *pcd_output_source(pcs_solver *s, int set, int ncomp, int c0, int c1, int c2)
+{
+    struct pcs_domain *d = s->split.dd;
+    struct pcd_out *o = d->out;
+    if (!o || !o->active || o->nst == OUT_MAX_STREAMS || ncomp < 1 || ncomp > 3)
+        sl_fatal("pcs_domain: output source outside pcd_output_begin .. end (internal error)");
+    pcd_stream *st = &o->st[o->nst++];
+    *st = (pcd_stream){.s = s, .set = set, .ncomp = ncomp, .col = {c0, c1, c2}};
+    for (int k = 0; k < ncomp; k++) st->tsz += col_size(st->col[k]);
+    st->src = (sl_source){out_read, st};
+    return &st->src;
+}
+
+size_t pcd_output_count(const pcs_solver *s, int set)
+{
+    const struct pcd_out *o = s->split.dd->out;
+    return o && o->active ? o->total[set] : 0;
+}
+
+void pcd_output_end(pcs_solver *s)
+{
+    struct pcs_domain *d = s->split.dd;
+    struct pcd_out *o = d->out;
+    const double c0 = par_counters().seconds;
+    const int64_t done[8] = {0};
+    for (int r = 1; r < s->split.size; r++) par_send_bytes(done, sizeof done, r, TAG_ASK);
+    o->active = 0;
+    d->c.out_writes++;
+    d->c.out_bytes += par_counters().bytes - o->bytes0;
+    const double held = (double)(o->window * 3 * sizeof(double)) +
+        (double)o->tail_cap * sizeof *o->tail + (double)o->tbuf_cap * sizeof *o->tbuf;
+    if (held > d->c.out_held) d->c.out_held = held;
+    d->c.out_seconds += omp_get_wtime() - o->t0;
+    s->time.comm += par_counters().seconds - c0;
 }

@@ -48,6 +48,7 @@
 #ifndef SL_PCS_DOMAIN_H
 #define SL_PCS_DOMAIN_H
 
+#include "core/sl_source.h"
 #include "solver/pcisph.h"
 #include "solver/pcs_snapshot.h"
 
@@ -98,6 +99,46 @@ const pcs_snapshot *pcd_full_snapshot(pcs_solver *s, const pcs_snapshot *mine);
 /* A snapshot of the whole state (a restart file read by every rank) cut
  * down to this rank's particles. */
 void pcd_localize_snapshot(const pcs_solver *s, pcs_snapshot *snap);
+/* Streamed output (time directories and restart files) without the
+ * whole state on rank 0.  Collective: every rank calls
+ * pcd_output_begin after the density of the written positions
+ * (pcs_compute_density); on rank 0 it returns 1, and rank 0 then writes
+ * its files from pcd_output_source()s and calls pcd_output_end; on the
+ * others it serves their parts to rank 0 until pcd_output_end and returns
+ * 0.  A source is one set's array in the serial order, tuples of ncomp
+ * columns (PCD_ID and PCD_BODY uint32, the others doubles) in VTK's
+ * interleaved layout: fluid (rank order is the serial order; the
+ * particles emitted since the last sort, from every rank, after them by
+ * id), boundary (each rank's own ones by (cell, creation index): rank
+ * order again) and prev, the snapshot given (restart files: the state at
+ * the start of the step before; rank order).  Rank 0 holds one window of
+ * OUT_WINDOW tuples of the array being written, the requests' tuples
+ * asked of their rank one piece at a time, and the ids of the particles
+ * emitted since the last sort (none after a search). */
+enum { PCD_SET_FLUID, PCD_SET_BOUNDARY, PCD_SET_PREV };
+enum {
+    PCD_X,
+    PCD_Y,
+    PCD_Z,
+    PCD_VX,
+    PCD_VY,
+    PCD_VZ,
+    PCD_P,
+    PCD_RHO,
+    PCD_DERR, /* fluid: 100 (rho - rho0) / rho0 */
+    PCD_PR,   /* fluid: sqrt(p / p_max) */
+    PCD_ID,
+    PCD_NX,
+    PCD_NY,
+    PCD_NZ,
+    PCD_MASS,
+    PCD_BODY
+};
+int pcd_output_begin(pcs_solver *s, const pcs_snapshot *prev);
+const sl_source *pcd_output_source(pcs_solver *s, int set, int ncomp, int c0, int c1, int c2);
+size_t pcd_output_count(const pcs_solver *s, int set);
+void pcd_output_end(pcs_solver *s);
+
 /* The methods without wall density, after the pressure solve: the block
  * sums of the measured compression (err_vol) of the last density pass in
  * s->vol_block, every block on every rank (made as the density error's:
@@ -111,8 +152,8 @@ typedef struct pcd_counts {
     double stored_mean, halo_mean;                     /* over searches, this rank */
     size_t cap;                                        /* this rank's fluid capacity */
     double imbalance_max;                              /* largest max/mean of a search */
-    double gather_seconds;
-    double mem_min, mem_max; /* resident bytes at the end, over the ranks */
+    double gather_seconds, gather_bytes; /* bytes: received by this rank (rank 0: all) */
+    double mem_min, mem_max;             /* resident bytes at the end, over the ranks */
     /* bytes of the particle arrays (capacities) and neighbour lists at the
      * end, over the ranks */
     double arrays_min, arrays_max;
@@ -128,6 +169,14 @@ typedef struct pcd_counts {
      * ranks */
     int overlap;
     double inner_share;
+    /* streamed output (rank 0's): writes, bytes received for them, the
+     * window's tuples, the largest output buffers held (bytes), seconds */
+    long out_writes;
+    double out_bytes;
+    size_t out_window;
+    double out_held, out_seconds;
+    /* peak resident memory (VmHWM): rank 0's, and the others' range */
+    double peak_root, peak_others_min, peak_others_max;
 } pcd_counts;
 pcd_counts pcd_counters(const pcs_solver *s);
 

@@ -123,6 +123,37 @@ static void test_dam_break_np123(void **state)
     assert_int_equal(system("grep -q 'no overlap' tests/output/parDamBlocking3/log.pcisph"), 0);
 }
 
+/* Streamed output (domain mode): rank 0 writes fluid.vtu, boundary.vtu and
+ * the restart file from windows of 100 particles asked of their ranks one
+ * at a time (SLUICE_PARALLEL_OUTPUT_WINDOW; the default 16384 is more than
+ * this case holds), never from a gathered copy: the files are the serial
+ * ones (the restart files' states too: all but their run state, whose
+ * timings differ between any two runs), and rank 0's largest output buffer,
+ * as the log reports it, is below both particle counts.  Uses parDamSerial
+ * (test_dam_break_np123). */
+static void test_streamed_output(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    setenv("SLUICE_PARALLEL_OUTPUT_WINDOW", "100", 1);
+    int rc = run_np("tests/cases/damBreakShort", "parStream3", dam, 3);
+    unsetenv("SLUICE_PARALLEL_OUTPUT_WINDOW");
+    assert_int_equal(rc, 0);
+    same_output("parDamSerial", "parStream3");
+    assert_int_equal(system("cd tests/output && n=0 && for t in $(cat parDamSerial.times); do "
+                            "zcat parDamSerial/$t/uniform/restart > a.rst && zcat "
+                            "parStream3/$t/uniform/restart > b.rst && s=$(wc -c < a.rst) && "
+                            "[ $s -gt 4096 ] && cmp -n $((s - 1024)) a.rst b.rst || exit 1; "
+                            "n=$((n + 1)); done && [ $n -ge 2 ]"),
+                     0);
+    /* "rank 0's largest output buffer 100 particles (of 9216 fluid, 7824 boundary)" */
+    assert_int_equal(system("sed -En 's/.*largest output buffer ([0-9]+) particles \\(of "
+                            "([0-9]+) fluid, ([0-9]+) boundary.*/\\1 \\2 \\3/p' "
+                            "tests/output/parStream3/log.pcisph | awk 'NF == 3 { ok = $1 == 100 "
+                            "&& $1 < $2 && $1 < $3 } END { exit !ok }'"),
+                     0);
+}
+
 static void test_ranks_times_threads(void **state)
 {
     (void)state;
@@ -449,6 +480,7 @@ int main(void)
     setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 0);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_dam_break_np123),
+        cmocka_unit_test(test_streamed_output),
         cmocka_unit_test(test_ranks_times_threads),
         cmocka_unit_test(test_gather_mode_and_becker),
         cmocka_unit_test(test_density_and_tension_effects),

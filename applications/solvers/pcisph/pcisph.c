@@ -271,23 +271,50 @@ static double cpu_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The restart file's state of set `set` streamed from the ranks
+ * (-parallel's domain mode, rank 0). */
+static void streamed_state(pcs_solver *s, int set, double time, double dt, long step, rst_state *st)
+{
+    const int cols[7] = {PCD_X, PCD_Y, PCD_Z, PCD_VX, PCD_VY, PCD_VZ, PCD_ID};
+    st->n = pcd_output_count(s, set);
+    st->time = time;
+    st->dt = dt;
+    st->step = step;
+    for (int k = 0; k < 7; k++) st->col[k] = *pcd_output_source(s, set, 1, cols[k], 0, 0);
+}
+
 /* Write time directory r->t (density recomputed from x(t), restart file
- * included); the record is flushed with it. */
+ * included); the record is flushed with it.  -parallel's domain mode:
+ * rank 0 writes the files from every rank's part, streamed in the serial
+ * order (pcd_output_begin), and holds none of the others' state whole. */
 static void write_time(run *r)
 {
     sl_err err;
     const double w0 = omp_get_wtime(), c0 = cpu_seconds();
     const pcs_run_state *prev = hist_last(&r->hist);
-    const pcs_snapshot *snaps[2] = {&r->wsnap, prev ? &prev->snap : NULL};
+    rst_state st[2];
+    const int nst = prev ? 2 : 1;
     pcs_compute_density(&r->s); /* sorts: the snapshot is taken after it */
-    /* -parallel's domain mode: the whole state, gathered on rank 0 */
-    snap_take(&r->wsnap, pcs_view_of(&r->s).f, r->t, r->s.dt, r->step);
-    if (prev) snaps[1] = pcs_whole_snapshot(&r->s, &prev->snap);
     blob_pack(r);
-    if (r->root) {
+    int writer = r->root;
+    if (r->s.split.domain) {
+        writer = pcd_output_begin(&r->s, prev ? &prev->snap : NULL);
+        if (writer) {
+            streamed_state(&r->s, PCD_SET_FLUID, r->t, r->s.dt, r->step, &st[0]);
+            if (prev)
+                streamed_state(&r->s, PCD_SET_PREV, prev->snap.time, prev->snap.dt, prev->snap.step,
+                               &st[1]);
+        }
+    } else {
+        snap_take(&r->wsnap, pcs_view_of(&r->s).f, r->t, r->s.dt, r->step);
+        rst_state_of(&st[0], &r->wsnap);
+        if (prev) rst_state_of(&st[1], &prev->snap);
+    }
+    if (writer) {
         rec_flush(&r->rec);
-        if (out_write(&r->out, &r->s, r->t, snaps, prev ? 2 : 1, r->blob, r->blob_size, &err))
+        if (out_write(&r->out, &r->s, r->t, st, nst, r->blob, r->blob_size, &err))
             sl_fatal("%s", err.msg);
+        if (r->s.split.domain) pcd_output_end(&r->s);
     }
     r->last_write = r->t;
     r->write_wall += omp_get_wtime() - w0;
@@ -640,6 +667,14 @@ static void summary_parallel(const run *r, double wall)
                 "rank at the end %.1f-%.1f MB (particle arrays and neighbour lists %.1f-%.1f MB)",
                 dc.rebalances, dc.imbalance_max, dc.gathers, dc.gather_seconds, 1e-6 * dc.mem_min,
                 1e-6 * dc.mem_max, 1e-6 * dc.arrays_min, 1e-6 * dc.arrays_max);
+        sl_info("  parallel: output streamed to rank 0: %ld writes, %.3g bytes received per "
+                "write, %.2f s; rank 0's largest output buffer %zu particles (of %zu fluid, %zu "
+                "boundary), %.3g bytes held; gathers for function objects %.3g bytes received "
+                "per step; peak resident memory rank 0 %.1f MB, the others %.1f-%.1f MB",
+                dc.out_writes, dc.out_writes ? dc.out_bytes / (double)dc.out_writes : 0.0,
+                dc.out_seconds, dc.out_window, pcs_fluid_total(&r->s), pcs_boundary_total(&r->s),
+                dc.out_held, dc.gather_bytes / steps, 1e-6 * dc.peak_root,
+                1e-6 * dc.peak_others_min, 1e-6 * dc.peak_others_max);
     }
     if (sp->size == 1) sl_info("  parallel: one rank, nothing exchanged");
     else if (sp->domain)
