@@ -83,6 +83,15 @@ void fo_execute(fo_list *l, const pcs_view *s, double time, long step, int write
  * rank 0 only then. */
 int fo_wants_state(const fo_list *l, double time, long step, int write_time);
 
+/* What that call would read: FO_READS_NOTHING, FO_READS_NEAR (only point
+ * queries at points inside the *nboxes boxes *boxes, 6 doubles each: lo
+ * x y z, hi x y z, infinite bounds allowed; the list's memory, valid
+ * until the next call) or FO_READS_ALL.  -parallel's domain mode gathers
+ * on rank 0 only the particles near the boxes, or the whole state. */
+enum { FO_READS_NOTHING, FO_READS_NEAR, FO_READS_ALL };
+int fo_wants_region(fo_list *l, double time, long step, int write_time, const double **boxes,
+                    size_t *nboxes);
+
 /* Open the files of a run starting at `time` without executing anything:
  * for a restart, whose first state was recorded by the previous run (and
  * whose densities and pressures are not computed yet).  No-op after the

@@ -51,6 +51,8 @@ struct fo_list {
     fo_index ix;
     int started;      /* files open (first call or fo_start) */
     double last_time; /* of the last call */
+    double *box;      /* fo_wants_region's boxes */
+    size_t box_cap;
 };
 
 /* ---- reading ---- */
@@ -344,6 +346,41 @@ void fo_execute(fo_list *l, const pcs_view *s, double time, long step, int write
     }
 }
 
+/* Whether object o is due in a call at (step, write_time) after the start. */
+static int wants(const fo_object *o, long step, int write_time)
+{
+    if (o->failed) return 0;
+    if (write_time && o->type->at_write) return 1;
+    return o->on_write_time ? write_time && o->nwrites % o->interval == 0 : step % o->interval == 0;
+}
+
+int fo_wants_region(fo_list *l, double time, long step, int write_time, const double **boxes,
+                    size_t *nboxes)
+{
+    *boxes = NULL;
+    *nboxes = 0;
+    if (!l) return FO_READS_NOTHING;
+    const int all = !l->started || l->post;
+    if (l->started && time <= l->last_time) return FO_READS_NOTHING;
+    size_t nb = 0;
+    int any = 0;
+    for (size_t i = 0; i < l->n; i++) {
+        const fo_object *o = &l->obj[i];
+        if (!(all ? !o->failed : wants(o, step, write_time))) continue;
+        if (!o->type->region) return FO_READS_ALL;
+        any = 1;
+        const size_t need = o->type->region(o->state, NULL, 0);
+        if (nb + need > l->box_cap) {
+            l->box_cap = 2 * (nb + need) + 16;
+            l->box = sl_realloc(l->box, 6 * l->box_cap * sizeof *l->box, "query boxes");
+        }
+        nb += o->type->region(o->state, l->box + 6 * nb, need);
+    }
+    *boxes = l->box;
+    *nboxes = nb;
+    return any ? FO_READS_NEAR : FO_READS_NOTHING;
+}
+
 int fo_wants_state(const fo_list *l, double time, long step, int write_time)
 {
     if (!l) return 0;
@@ -387,6 +424,7 @@ void fo_free(fo_list *l)
         free(o->path);
     }
     fo_index_free(&l->ix);
+    free(l->box);
     free(l->obj);
     free(l->case_dir);
     free(l);

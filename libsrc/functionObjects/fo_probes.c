@@ -122,6 +122,15 @@ static void pr_free(void *vs)
     free(st);
 }
 
+/* Point queries at the probes only: a box of each point. */
+static size_t pr_region(const void *vs, double *box, size_t max)
+{
+    const pr_state *st = vs;
+    for (size_t i = 0; i < st->n && i < max; i++)
+        for (int k = 0; k < 6; k++) box[6 * i + k] = st->pts[3 * i + k % 3];
+    return st->n;
+}
+
 const fo_type fo_type_probes = {
     .name = "probes",
     .keys = pr_keys,
@@ -132,4 +141,5 @@ const fo_type fo_type_probes = {
     .execute = pr_execute,
     .at_write = NULL,
     .free = pr_free,
+    .region = pr_region,
 };

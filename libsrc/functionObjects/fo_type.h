@@ -42,6 +42,11 @@ typedef struct fo_type {
     void (*execute)(void *st, const fo_call *call);
     void (*at_write)(void *st, const fo_call *call); /* optional */
     void (*free)(void *st);
+    /* Optional: the object reads only point queries (fo_query) at points
+     * inside these boxes (6 doubles each: lo x y z, hi x y z; infinite
+     * bounds allowed), at most max of them written; returns how many it
+     * needs.  Without it the object reads the whole state. */
+    size_t (*region)(const void *st, double *box, size_t max);
 } fo_type;
 
 extern const fo_type fo_type_density_error;

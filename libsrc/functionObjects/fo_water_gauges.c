@@ -72,7 +72,11 @@ static int wg_range(const wg_state *st, const pcs_view *s, double *z0, double *z
     }
     const sl_fluid *f = s->f;
     double lo = INFINITY, hi = -INFINITY;
-    for (size_t i = 0; i < f->n; i++) {
+    if (s->fluid_z) { /* f is the particles near the gauges (-parallel): the whole fluid's */
+        lo = s->fluid_z[0];
+        hi = s->fluid_z[1];
+    }
+    for (size_t i = 0; !s->fluid_z && i < f->n; i++) {
         if (f->z[i] < lo) lo = f->z[i];
         if (f->z[i] > hi) hi = f->z[i];
     }
@@ -138,6 +142,21 @@ static void wg_free(void *vs)
     free(st);
 }
 
+/* Point queries on the gauges' vertical lines only (all of z: the range
+ * may be the fluid's extent). */
+static size_t wg_region(const void *vs, double *box, size_t max)
+{
+    const wg_state *st = vs;
+    for (size_t i = 0; i < st->n && i < max; i++) {
+        double *b = box + 6 * i;
+        b[0] = b[3] = st->xy[2 * i];
+        b[1] = b[4] = st->xy[2 * i + 1];
+        b[2] = -INFINITY;
+        b[5] = INFINITY;
+    }
+    return st->n;
+}
+
 const fo_type fo_type_water_gauges = {
     .name = "waterGauges",
     .keys = wg_keys,
@@ -148,4 +167,5 @@ const fo_type fo_type_water_gauges = {
     .execute = wg_execute,
     .at_write = NULL,
     .free = wg_free,
+    .region = wg_region,
 };

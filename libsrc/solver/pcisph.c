@@ -1016,7 +1016,8 @@ pcs_view pcs_view_of(const pcs_solver *s)
                       .rho0 = s->prm.rho0,
                       .gravity = s->prm.gravity,
                       .periodic = s->prm.periodic.axes ? &s->prm.periodic : NULL,
-                      .boundary_images = s->halo.nb_img > 0};
+                      .boundary_images = s->halo.nb_img > 0,
+                      .fluid_z = mf ? pcd_mirror_zext(s) : NULL};
 }
 
 void pcs_compute_density(pcs_solver *s)
@@ -1037,4 +1038,9 @@ size_t pcs_boundary_total(const pcs_solver *s)
 void pcs_gather(pcs_solver *s)
 {
     if (s->split.domain) pcd_gather(s);
+}
+
+void pcs_gather_near(pcs_solver *s, const double *boxes, size_t nboxes)
+{
+    if (s->split.domain) pcd_gather_near(s, boxes, nboxes);
 }

@@ -191,6 +191,10 @@ typedef struct pcs_view {
      * particles (a snapshot read back from boundary.vtu) */
     const dom_periodic *periodic;
     int boundary_images;
+    /* [lo, hi] of the whole fluid's z where f may hold only the particles
+     * near the points queried (-parallel's domain mode, pcs_gather_near);
+     * NULL: f is the whole fluid */
+    const double *fluid_z;
 } pcs_view;
 
 /* The view of s's state. */
@@ -254,5 +258,11 @@ size_t pcs_boundary_total(const pcs_solver *s);
  * shows it to function objects (nothing when already gathered since the
  * last step; output does not gather, it streams: pcd_output_begin). */
 void pcs_gather(pcs_solver *s);
+/* The same for point queries inside nboxes boxes (6 doubles each: lo x y
+ * z, hi x y z; rank 0's, sent to all) only: rank 0 receives the particles
+ * of the cells a query there can read (fo_query), in the serial order, and
+ * the whole fluid's z extent (pcs_view.fluid_z); the queries then give the
+ * serial values.  Collective; nothing outside the domain mode. */
+void pcs_gather_near(pcs_solver *s, const double *boxes, size_t nboxes);
 
 #endif

@@ -78,7 +78,7 @@ struct pcs_domain {
     sl_boundary mbound;
     nbr_grid mgrid;
     nbr_list mbf;
-    uint32_t *mfstart, *mbstart, *bmap;
+    uint32_t *mfstart, *mbstart;
     uint64_t *bkeys;
     size_t bkeys_cap;
     int have_mirror, fresh;
@@ -91,6 +91,12 @@ struct pcs_domain {
     pcd_counts c;
     double stored_sum, halo_sum;
     struct pcd_out *out; /* streamed output (pcd_output_begin .. end) */
+    /* the gather near the function objects' points */
+    double *nearbox;
+    size_t nearbox_cap;
+    unsigned char *nearmark; /* by cell rank */
+    uint32_t *cell_lin;      /* cell rank -> linear cell */
+    double zext[2];
 };
 
 static void out_free(struct pcd_out *o);
@@ -618,7 +624,7 @@ static void domain_free(struct pcs_domain *d)
     free(d->bscnt), free(d->bsdis), free(d->brcnt), free(d->brdis), free(d->bpos);
     sl_free_aligned(d->bown), sl_free_aligned(d->brow), sl_free_aligned(d->bmark);
     sl_free_aligned(d->isbuf), sl_free_aligned(d->irbuf);
-    sl_free_aligned(d->mbstart), sl_free_aligned(d->bmap), sl_free_aligned(d->bkeys);
+    sl_free_aligned(d->mbstart), sl_free_aligned(d->bkeys);
     prt_boundary_free(&d->mbound);
     sl_free_aligned(d->bsend_idx), sl_free_aligned(d->brecv_idx);
     sl_free_aligned(d->dest);
@@ -631,6 +637,8 @@ static void domain_free(struct pcs_domain *d)
     free(d->tail);
     snap_free(&d->full);
     out_free(d->out);
+    sl_free_aligned(d->nearbox);
+    free(d->nearmark), free(d->cell_lin);
     free(d);
 }
 
@@ -1187,18 +1195,22 @@ static int cmp_u64(const void *a, const void *b)
  * index) at the current positions, as nbr_sort_boundary orders it): every
  * rank sends its own boundary particles with their last density and
  * pressure (their owner computed those), and whether their rows of the
- * last search were non-empty (the own cells' lists are complete). */
-static void gather_boundary(pcs_solver *s, struct pcs_domain *d)
+ * last search were non-empty (the own cells' lists are complete).  With
+ * sel (marks by cell rank), only those in the marked cells. */
+static void gather_boundary(pcs_solver *s, struct pcs_domain *d, const unsigned char *sel)
 {
     const sl_boundary *b = s->b;
     const int p = s->split.size, me = s->split.rank;
     const size_t n = b->n;
     const int lists = d->blists && s->bf.n == n;
     const uint32_t *st = s->bf.start;
+    const nbr_grid *g = &s->grid;
     d->sbuf = grow(d->sbuf, &d->sbuf_cap, BOUT * d->nb_own + 1, sizeof *d->sbuf, "output buffer");
-    size_t m = 0;
+    size_t m = 0, mine = 0;
     for (size_t j = 0; j < n; j++) {
         if (!own_boundary(d, b->id[j])) continue;
+        mine++;
+        if (sel && !sel[nbr_cell_rank(g, b->x[j], b->y[j], b->z[j])]) continue;
         double *o = d->sbuf + BOUT * m++;
         o[0] = b->x[j], o[1] = b->y[j], o[2] = b->z[j];
         o[3] = b->nx[j], o[4] = b->ny[j], o[5] = b->nz[j];
@@ -1207,8 +1219,8 @@ static void gather_boundary(pcs_solver *s, struct pcs_domain *d)
         o[13] = (double)b->body[j], o[14] = (double)b->id[j];
         o[15] = lists && st[j + 1] > st[j];
     }
-    if (m != d->nb_own)
-        sl_fatal("pcs_domain: %zu own boundary particles stored of %zu (internal error)", m,
+    if (mine != d->nb_own)
+        sl_fatal("pcs_domain: %zu own boundary particles stored of %zu (internal error)", mine,
                  d->nb_own);
     par_allgather_long((long)m, d->all_n);
     size_t total = 0;
@@ -1217,28 +1229,27 @@ static void gather_boundary(pcs_solver *s, struct pcs_domain *d)
         d->pdis[r] = as_int(total);
         total += (size_t)d->pcnt[r];
     }
-    if (total != BOUT * d->nb_global)
+    if (!sel && total != BOUT * d->nb_global)
         sl_fatal("pcs_domain: %zu boundary particles owned by the ranks, %zu in the case "
                  "(internal error)",
                  total / BOUT, d->nb_global);
     if (!me) d->gbuf = grow(d->gbuf, &d->gbuf_cap, total + 1, sizeof *d->gbuf, "output buffer");
     par_gatherv_root(d->sbuf, d->pcnt[me], d->gbuf, d->pcnt, d->pdis);
     if (me) return;
-    const size_t N = d->nb_global;
-    const nbr_grid *g = &s->grid;
-    d->bkeys = grow(d->bkeys, &d->bkeys_cap, N + 1, sizeof *d->bkeys, "output order");
-    if (!d->bmap) {
-        d->bmap = sl_alloc_aligned((N + 1) * sizeof *d->bmap, "output order");
+    const size_t N = total / BOUT;
+    d->bkeys = grow(d->bkeys, &d->bkeys_cap, 2 * N + 2, sizeof *d->bkeys, "output order");
+    if (!d->mbstart)
         d->mbstart = sl_alloc_aligned((g->ncells + 1) * sizeof *d->mbstart, "grid cells");
-    }
+    /* (key, where) pairs sorted by key: the serial order of those gathered */
     for (size_t q = 0; q < N; q++) {
         const double *o = d->gbuf + BOUT * q;
         const uint32_t id = (uint32_t)o[14];
-        if (id >= N) sl_fatal("pcs_domain: boundary index %u of %zu (internal error)", id, N);
-        d->bmap[id] = (uint32_t)q;
-        d->bkeys[q] = (uint64_t)nbr_cell_rank(g, o[0], o[1], o[2]) << 32 | id;
+        if (id >= d->nb_global)
+            sl_fatal("pcs_domain: boundary index %u of %zu (internal error)", id, d->nb_global);
+        d->bkeys[2 * q] = (uint64_t)nbr_cell_rank(g, o[0], o[1], o[2]) << 32 | id;
+        d->bkeys[2 * q + 1] = q;
     }
-    qsort(d->bkeys, N, sizeof *d->bkeys, cmp_u64);
+    qsort(d->bkeys, N, 2 * sizeof *d->bkeys, cmp_u64);
     sl_boundary *mb = &d->mbound;
     prt_boundary_reserve(mb, N);
     memset(d->mbstart, 0, (g->ncells + 1) * sizeof *d->mbstart);
@@ -1250,43 +1261,68 @@ static void gather_boundary(pcs_solver *s, struct pcs_domain *d)
     }
     l->start[0] = 0;
     for (size_t q = 0; q < N; q++) {
-        const uint32_t id = (uint32_t)(d->bkeys[q] & 0xffffffffu);
-        const double *o = d->gbuf + BOUT * d->bmap[id];
+        const uint32_t id = (uint32_t)(d->bkeys[2 * q] & 0xffffffffu);
+        const double *o = d->gbuf + BOUT * d->bkeys[2 * q + 1];
         mb->x[q] = o[0], mb->y[q] = o[1], mb->z[q] = o[2];
         mb->nx[q] = o[3], mb->ny[q] = o[4], mb->nz[q] = o[5];
         mb->mass[q] = o[6], mb->rho[q] = o[7], mb->p[q] = o[8], mb->pt[q] = o[9];
         mb->vx[q] = o[10], mb->vy[q] = o[11], mb->vz[q] = o[12];
         mb->body[q] = (uint32_t)o[13];
         mb->id[q] = id;
-        d->mbstart[(d->bkeys[q] >> 32) + 1]++;
+        d->mbstart[(d->bkeys[2 * q] >> 32) + 1]++;
         l->start[q + 1] = l->start[q] + (o[15] != 0.0 ? 1u : 0u);
     }
     mb->n = N;
     for (size_t c = 0; c < g->ncells; c++) d->mbstart[c + 1] += d->mbstart[c];
-    /* no lists yet (before the first search): the serial run's are empty */
-    l->n = lists ? N : 0;
+    /* no lists yet (before the first search): the serial run's are empty,
+     * and every particle counts as active (fo_query: the counts differ) */
+    l->n = lists ? N : N + 1;
 }
 
-void pcd_gather(pcs_solver *s)
+/* The whole fluid's z extent (exact: a min and a max), for the gauges. */
+static void fluid_z_extent(const pcs_solver *s, struct pcs_domain *d)
 {
-    struct pcs_domain *d = s->split.dd;
-    if (d->fresh) return;
+    const sl_fluid *f = s->f;
+    double lo = INFINITY, hi = -INFINITY;
+    for (size_t i = 0; i < f->n; i++) {
+        if (f->z[i] < lo) lo = f->z[i];
+        if (f->z[i] > hi) hi = f->z[i];
+    }
+    d->zext[0] = -par_max_double(-lo);
+    d->zext[1] = par_max_double(hi);
+}
+
+/* Rank 0's copy of the fluid (sel NULL: all of it; else the particles
+ * whose sorted cell or current cell is marked) and of the boundary, in
+ * the serial order.  grid_ok: the serial copy's grid would describe it
+ * (fo_query's test: no particle appended since the sort, every one within
+ * a cell of its sorted cell); when not, rank 0's copy gets no fluid cell
+ * starts, so that queries test every particle of it, as the serial run's. */
+static void gather_sel(pcs_solver *s, struct pcs_domain *d, const unsigned char *sel, int grid_ok)
+{
     const double t0 = omp_get_wtime(), c0 = par_counters().seconds, b0 = par_counters().bytes;
     const int p = s->split.size, me = s->split.rank;
     const sl_fluid *f = s->f;
+    const nbr_grid *g = &s->grid;
     const size_t n = f->n, ns = d->nsorted < n ? d->nsorted : n;
-    par_allgather_long((long)n, d->all_n);
-    par_allgather_long((long)ns, d->all_s);
+    d->sbuf = grow(d->sbuf, &d->sbuf_cap, REC_OUT * n + 1, sizeof *d->sbuf, "output buffer");
+    size_t m = 0, ms = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (sel && !sel[nbr_cell_rank(g, f->x[i], f->y[i], f->z[i])] &&
+            !(i < ns && sel[f->cell[i]]))
+            continue;
+        pack(f, i, d->sbuf + REC_OUT * m);
+        d->sbuf[REC_OUT * m + REC] = (double)f->cell[i];
+        m++;
+        if (i < ns) ms = m;
+    }
+    par_allgather_long((long)m, d->all_n);
+    par_allgather_long((long)ms, d->all_s);
     size_t total = 0;
     for (int r = 0; r < p; r++) {
         d->pcnt[r] = as_int(REC_OUT * (size_t)d->all_n[r]);
         d->pdis[r] = as_int(total);
         total += (size_t)d->pcnt[r];
-    }
-    d->sbuf = grow(d->sbuf, &d->sbuf_cap, REC_OUT * n + 1, sizeof *d->sbuf, "output buffer");
-    for (size_t i = 0; i < n; i++) {
-        pack(f, i, d->sbuf + REC_OUT * i);
-        d->sbuf[REC_OUT * i + REC] = (double)f->cell[i];
     }
     if (!me) d->gbuf = grow(d->gbuf, &d->gbuf_cap, total + 1, sizeof *d->gbuf, "output buffer");
     par_gatherv_root(d->sbuf, d->pcnt[me], d->gbuf, d->pcnt, d->pdis);
@@ -1294,8 +1330,8 @@ void pcd_gather(pcs_solver *s)
         /* the rows sorted at the last search in rank order (the serial
          * order), then the particles appended since (emitted), by id */
         const size_t N = total / REC_OUT;
-        sl_fluid *m = &d->mirror;
-        if (m->cap < N) prt_fluid_reserve(m, N + N / 4 + 64);
+        sl_fluid *mf = &d->mirror;
+        if (mf->cap < N) prt_fluid_reserve(mf, N + N / 4 + 64);
         d->tail = d->tail_cap >= N + 1
             ? d->tail
             : sl_realloc(d->tail, (N + 1) * sizeof *d->tail, "output order");
@@ -1306,8 +1342,8 @@ void pcd_gather(pcs_solver *s)
             for (size_t i = 0; i < (size_t)d->all_n[r]; i++) {
                 const double *o = src + REC_OUT * i;
                 if (i < (size_t)d->all_s[r]) {
-                    unpack(m, j, o);
-                    m->cell[j++] = (uint32_t)o[REC];
+                    unpack(mf, j, o);
+                    mf->cell[j++] = (uint32_t)o[REC];
                 } else {
                     const size_t at = (size_t)(o - d->gbuf) / REC_OUT;
                     d->tail[nt++] = (uint64_t)(uint32_t)o[8] << 32 | (uint64_t)at;
@@ -1318,31 +1354,111 @@ void pcd_gather(pcs_solver *s)
         qsort(d->tail, nt, sizeof *d->tail, cmp_u64);
         for (size_t q = 0; q < nt; q++) {
             const double *o = d->gbuf + REC_OUT * (d->tail[q] & 0xffffffffu);
-            unpack(m, j, o);
-            m->cell[j++] = (uint32_t)o[REC];
+            unpack(mf, j, o);
+            mf->cell[j++] = (uint32_t)o[REC];
         }
-        m->n = N;
+        mf->n = N;
         /* the grid of the last search over the sorted rows */
-        const nbr_grid *g = &s->grid;
         if (!d->mfstart)
             d->mfstart = sl_alloc_aligned((g->ncells + 1) * sizeof *d->mfstart, "grid cells");
         memset(d->mfstart, 0, (g->ncells + 1) * sizeof *d->mfstart);
-        for (size_t i = 0; i < nsort; i++) d->mfstart[m->cell[i] + 1]++;
+        for (size_t i = 0; i < nsort; i++) d->mfstart[mf->cell[i] + 1]++;
         for (size_t c = 0; c < g->ncells; c++) d->mfstart[c + 1] += d->mfstart[c];
         d->mgrid = *g;
-        d->mgrid.fstart = d->mfstart;
+        d->mgrid.fstart = grid_ok ? d->mfstart : NULL;
         d->mgrid.hstart = NULL;
         d->mgrid.bcell = d->mgrid.bperm = NULL; /* not for sorting */
         d->mgrid.bperm_cap = 0;
         d->have_mirror = 1;
     }
-    gather_boundary(s, d); /* after the fluid's: it reuses the buffers */
+    gather_boundary(s, d, sel); /* after the fluid's: it reuses the buffers */
     if (!me) d->mgrid.bstart = d->mbstart;
-    d->fresh = 1;
-    d->c.gathers++;
+    fluid_z_extent(s, d);
     d->c.gather_seconds += omp_get_wtime() - t0;
     d->c.gather_bytes += par_counters().bytes - b0;
     s->time.comm += par_counters().seconds - c0;
+}
+
+void pcd_gather(pcs_solver *s)
+{
+    struct pcs_domain *d = s->split.dd;
+    if (d->fresh) return;
+    gather_sel(s, d, NULL, 1);
+    d->fresh = 1;
+    d->c.gathers++;
+}
+
+/* The cell of v along axis a, as fo_query's cell_range takes it, moved by
+ * `by` cells and clamped into the grid. */
+static int near_cell(const nbr_grid *g, double v, int a, int by)
+{
+    double c = floor((v - g->lo[a]) * g->inv_cell) + by;
+    const double top = (double)(g->nc[a] - 1);
+    if (!(c >= 0.0)) c = 0.0; /* also NaN, and -inf */
+    if (c > top) c = top;
+    return (int)c;
+}
+
+void pcd_gather_near(pcs_solver *s, const double *boxes, size_t nboxes)
+{
+    struct pcs_domain *d = s->split.dd;
+    const nbr_grid *g = &s->grid;
+    long nb = (long)nboxes;
+    par_bcast(&nb, sizeof nb);
+    d->nearbox =
+        grow(d->nearbox, &d->nearbox_cap, 6 * (size_t)nb + 1, sizeof *d->nearbox, "query boxes");
+    if (!s->split.rank && nb) memcpy(d->nearbox, boxes, 6 * (size_t)nb * sizeof *boxes);
+    if (nb) par_bcast(d->nearbox, 6 * (size_t)nb * sizeof *d->nearbox);
+    /* the cells a query in a box reads: fo_query's reach around its cell */
+    if (!d->nearmark) {
+        d->nearmark = sl_malloc(g->ncells + 1, "query cells");
+        d->cell_lin = sl_malloc((g->ncells + 1) * sizeof *d->cell_lin, "query cells");
+        for (size_t lin = 0; lin < g->ncells; lin++) d->cell_lin[g->rank[lin]] = (uint32_t)lin;
+    }
+    memset(d->nearmark, 0, g->ncells);
+    const int reach = (int)ceil(s->h * g->inv_cell - 1e-9) + 1;
+    size_t marked = 0;
+    for (long q = 0; q < nb; q++) {
+        const double *bx = d->nearbox + 6 * q;
+        int lo[3], hi[3];
+        for (int a = 0; a < 3; a++) {
+            lo[a] = near_cell(g, bx[a], a, -reach);
+            hi[a] = near_cell(g, bx[3 + a], a, reach);
+        }
+        for (int cz = lo[2]; cz <= hi[2]; cz++)
+            for (int cy = lo[1]; cy <= hi[1]; cy++)
+                for (int cx = lo[0]; cx <= hi[0]; cx++) {
+                    const size_t lin = (size_t)cx +
+                        (size_t)g->nc[0] * ((size_t)cy + (size_t)g->nc[1] * (size_t)cz);
+                    marked += !d->nearmark[g->rank[lin]];
+                    d->nearmark[g->rank[lin]] = 1;
+                }
+    }
+    /* would the serial copy's grid describe it (fo_index_update)? */
+    const sl_fluid *f = s->f;
+    const size_t n = f->n, ns = d->nsorted < n ? d->nsorted : n;
+    const size_t nx = (size_t)g->nc[0], nxy = nx * (size_t)g->nc[1];
+    int bad = ns != n;
+    for (size_t i = 0; i < ns && !bad; i++) {
+        const size_t lin = d->cell_lin[f->cell[i]];
+        const int c[3] = {(int)(lin % nx), (int)(lin % nxy / nx), (int)(lin / nxy)};
+        const double x[3] = {f->x[i], f->y[i], f->z[i]};
+        for (int a = 0; a < 3; a++) {
+            const int k = near_cell(g, x[a], a, 0) - c[a];
+            if (k < -1 || k > 1) bad = 1;
+        }
+    }
+    const int grid_ok = !par_max_int(bad);
+    gather_sel(s, d, d->nearmark, grid_ok);
+    d->fresh = 0; /* not the whole state */
+    d->c.near_gathers++;
+    d->c.near_cells = marked;
+}
+
+const double *pcd_mirror_zext(const pcs_solver *s)
+{
+    const struct pcs_domain *d = s->split.dd;
+    return d ? d->zext : NULL;
 }
 
 const sl_fluid *pcd_mirror(const pcs_solver *s)

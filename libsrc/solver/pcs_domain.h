@@ -87,6 +87,10 @@ void pcd_keep_own(pcs_solver *s);
 void pcd_keep_emitted(pcs_solver *s, size_t n0);
 /* The state on rank 0 (see pcs_gather). */
 void pcd_gather(pcs_solver *s);
+/* Only the particles near nboxes boxes (see pcs_gather_near). */
+void pcd_gather_near(pcs_solver *s, const double *boxes, size_t nboxes);
+/* The whole fluid's z extent at the last gather (rank 0; NULL before). */
+const double *pcd_mirror_zext(const pcs_solver *s);
 /* What rank 0 shows (NULL elsewhere, and before a gather). */
 const sl_fluid *pcd_mirror(const pcs_solver *s);
 const nbr_grid *pcd_mirror_grid(const pcs_solver *s);
@@ -177,6 +181,10 @@ typedef struct pcd_counts {
     double out_held, out_seconds;
     /* peak resident memory (VmHWM): rank 0's, and the others' range */
     double peak_root, peak_others_min, peak_others_max;
+    /* gathers near the function objects' points, and the cells marked at
+     * the last one */
+    long near_gathers;
+    size_t near_cells;
 } pcd_counts;
 pcd_counts pcd_counters(const pcs_solver *s);
 

@@ -290,9 +290,12 @@ static void test_emitter(void **state)
 {
     (void)state;
     NEED_MPI();
-    const char *edit = "sed -i 's/^endTime .*/endTime 0.1;/; s/^writeInterval .*/writeInterval "
-                       "0.05;/' system/controlDict && echo 'numberOfThreads 1;' >> "
-                       "system/controlDict";
+    const char *edit =
+        "sed -i 's/^endTime .*/endTime 0.1;/; s/^writeInterval .*/writeInterval "
+        "0.05;/' system/controlDict && echo 'numberOfThreads 1;' >> "
+        "system/controlDict && printf 'functions\\n{\\n probes { type probes; "
+        "probeLocations ((0.1 0.1 0.02) (0.05 0.05 0.05) (0.1 0.1 0.3)); }\\n gauges { type "
+        "waterGauges; gaugeLocations ((0.1 0.1) (0.03 0.15)); }\\n}\\n' >> system/controlDict";
     assert_int_equal(run_np("tutorials/filling", "parFillSerial", edit, 0), 0);
     assert_int_equal(run_np("tutorials/filling", "parFill3", edit, 3), 0);
     same_output("parFillSerial", "parFill3");
@@ -304,6 +307,40 @@ static void test_emitter(void **state)
     assert_int_equal(system("grep -Eq 'changed rank between searches: [1-9][0-9]* to a higher "
                             "rank, [1-9][0-9]* to a lower' tests/output/parFill3/log.pcisph"),
                      0);
+    /* probes and gauges (the same files, compared above) from the particles
+     * near their points only, the jet's newest particles (emitted after the
+     * sort) among them */
+    assert_int_equal(system("grep -Eq 'function objects: 0 gathers of the whole state, [1-9][0-9]* "
+                            "of the particles near' tests/output/parFill3/log.pcisph"),
+                     0);
+}
+
+/* Probes and gauges alone (point queries) on the dam break, 2 and 3 ranks:
+ * rank 0 receives the particles of the cells near their points only, never
+ * the whole state, and their files are the serial ones, byte for byte. */
+static void test_function_objects_near(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    const char *edit =
+        "sed -i 's/^endTime .*/endTime 0.04;/; s/^writeInterval .*/writeInterval 0.02;/; "
+        "s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict && "
+        "printf 'functions\\n{\\n probes { type probes; fields (pressure density velocity); "
+        "probeLocations ((0.2 0.3 0.1) (0.41 0.3 0.3) (0.02 0.3 0.02)); }\\n"
+        " gauges { type waterGauges; gaugeLocations ((0.2 0.3) (0.5 0.3)); }\\n}\\n' >> "
+        "system/controlDict";
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parNearSerial", edit, 0), 0);
+    const char *names[] = {"parNear2", "parNear3"};
+    for (int np = 2; np <= 3; np++) {
+        assert_int_equal(run_np("tests/cases/damBreakShort", names[np - 2], edit, np), 0);
+        same_output("parNearSerial", names[np - 2]);
+        char cmd[512];
+        snprintf(cmd, sizeof cmd,
+                 "grep -Eq 'function objects: 0 gathers of the whole state, [1-9][0-9]* of the "
+                 "particles near' tests/output/%s/log.pcisph",
+                 names[np - 2]);
+        assert_int_equal(system(cmd), 0);
+    }
 }
 
 /* Domain mode (phase 2): the dam break on 3 ranks with a rebalancing
@@ -486,6 +523,7 @@ int main(void)
         cmocka_unit_test(test_density_and_tension_effects),
         cmocka_unit_test(test_moving_boundary),
         cmocka_unit_test(test_emitter),
+        cmocka_unit_test(test_function_objects_near),
         cmocka_unit_test(test_domain_migration_rebalance),
         cmocka_unit_test(test_restart_2_then_3),
         cmocka_unit_test(test_periodic),

@@ -271,6 +271,22 @@ static double cpu_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* -parallel's domain mode (collective; nothing otherwise): on rank 0 what
+ * the function objects due now read, of every rank's state: the particles
+ * near their points when they make point queries only (probes, gauges),
+ * else the whole state. */
+static void gather_for(run *r, fo_list *fo)
+{
+    if (!r->s.split.domain) return;
+    const double *boxes = NULL;
+    size_t nboxes = 0;
+    int want = FO_READS_NOTHING;
+    if (r->root) want = fo_wants_region(fo, r->t, r->step, r->last_write == r->t, &boxes, &nboxes);
+    want = par_max_int(want);
+    if (want == FO_READS_ALL) pcs_gather(&r->s);
+    else if (want == FO_READS_NEAR) pcs_gather_near(&r->s, boxes, nboxes);
+}
+
 /* The restart file's state of set `set` streamed from the ranks
  * (-parallel's domain mode, rank 0). */
 static void streamed_state(pcs_solver *s, int set, double time, double dt, long step, rst_state *st)
@@ -663,18 +679,19 @@ static void summary_parallel(const run *r, double wall)
             sl_info("  parallel: no overlap (SLUICE_PARALLEL_OVERLAP=0, or EFF_DENSITY effects): "
                     "the halo exchanges block");
         sl_info("  parallel: %ld rebalances (largest imbalance max/mean %.3f); %ld gathers of the "
-                "state on rank 0 for output and function objects, %.2f s; resident memory per "
+                "whole state on rank 0 for function objects, %.2f s; resident memory per "
                 "rank at the end %.1f-%.1f MB (particle arrays and neighbour lists %.1f-%.1f MB)",
                 dc.rebalances, dc.imbalance_max, dc.gathers, dc.gather_seconds, 1e-6 * dc.mem_min,
                 1e-6 * dc.mem_max, 1e-6 * dc.arrays_min, 1e-6 * dc.arrays_max);
         sl_info("  parallel: output streamed to rank 0: %ld writes, %.3g bytes received per "
                 "write, %.2f s; rank 0's largest output buffer %zu particles (of %zu fluid, %zu "
-                "boundary), %.3g bytes held; gathers for function objects %.3g bytes received "
-                "per step; peak resident memory rank 0 %.1f MB, the others %.1f-%.1f MB",
+                "boundary), %.3g bytes held; function objects: %ld gathers of the whole state, "
+                "%ld of the particles near their points only (%zu cells at the last), %.3g bytes "
+                "received per step; peak resident memory rank 0 %.1f MB, the others %.1f-%.1f MB",
                 dc.out_writes, dc.out_writes ? dc.out_bytes / (double)dc.out_writes : 0.0,
                 dc.out_seconds, dc.out_window, pcs_fluid_total(&r->s), pcs_boundary_total(&r->s),
-                dc.out_held, dc.gather_bytes / steps, 1e-6 * dc.peak_root,
-                1e-6 * dc.peak_others_min, 1e-6 * dc.peak_others_max);
+                dc.out_held, dc.gathers, dc.near_gathers, dc.near_cells, dc.gather_bytes / steps,
+                1e-6 * dc.peak_root, 1e-6 * dc.peak_others_min, 1e-6 * dc.peak_others_max);
     }
     if (sp->size == 1) sl_info("  parallel: one rank, nothing exchanged");
     else if (sp->domain)
@@ -900,7 +917,7 @@ int main(int argc, char **argv)
     if (r.root) rec_open(&r.rec, &r.c, start_name);
     if (!restarted) write_time(&r);
     const int fo_on = fo != NULL; /* the same on every rank: they gather for rank 0 */
-    if (fo_on) pcs_gather(&r.s);
+    if (fo_on) gather_for(&r, fo);
     const pcs_view view = pcs_view_of(&r.s); /* what the function objects read */
     if (!r.root) {                           /* the function objects' files are rank 0's */
         fo_free(fo);
@@ -917,10 +934,7 @@ int main(int argc, char **argv)
     while (r.t < r.t_end - 1e-9 * r.ctl.dt) {
         advance(&r);
         poll_write_requests(&r);
-        if (fo_on) { /* -parallel's domain mode: the state on rank 0 when an object reads it */
-            const int want = r.root && fo_wants_state(fo, r.t, r.step, r.last_write == r.t);
-            if (par_max_int(want)) pcs_gather(&r.s);
-        }
+        if (fo_on) gather_for(&r, fo);
         fo_execute(fo, &view, r.t, r.step, r.last_write == r.t);
         progress(&r);
         if (stop_requested) {
