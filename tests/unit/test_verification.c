@@ -51,6 +51,20 @@ static double level(const char *kase, const char *name, double r0, double dt, co
     return e;
 }
 
+/* Column `col` (0 = error) of the summary.dat row verifyCase wrote in
+ * OUT/<name> (by level()). */
+static double summary_column(const char *name, int col)
+{
+    char path[512];
+    snprintf(path, sizeof path, OUT "/%s/postProcessing/verifyCase/summary.dat", name);
+    char *s = slurp(path), *row = s;
+    while (*row == '#') row = strchr(row, '\n') + 1;
+    double v = strtod(row, &row);
+    for (int k = 0; k < col; k++) v = strtod(row, &row);
+    free(s);
+    return v;
+}
+
 /* Poiseuille flow with the laminar viscosity: the profile's error over
  * u_max falls at first order (measured 0.206 at r0 0.01 m, 0.104 at
  * 0.005 m: 1.98x).  Tolerances: 1.2x the measured, and >= 1.5x per halving. */
@@ -191,12 +205,48 @@ static void test_relaxed_to_tolerance(void **state)
 
 /* The standing wave's period from the zero crossings of the velocity's
  * projection on the linear mode (measured 0.0456 at r0 0.01 m; it levels
- * off at 0.034 by r0 0.004 m, see doc/verification.md). */
+ * off at 0.034 by r0 0.004 m, see doc/verification.md), and the
+ * amplitude's decay rate with nu 1e-5 (measured 1.042 /s: numerical
+ * damping, 2 nu k^2 is 0.0049 /s). */
+#define SW_DECAY_RATE  8 /* summary.dat's decayRate, decayError columns */
+#define SW_DECAY_ERROR 10
 static void test_standing_wave_period(void **state)
 {
     (void)state;
     double e = level("standingWave", "standingWave_0.01", 0.01, 0.002, "");
     assert_true(e < 0.06);
+    double g = summary_column("standingWave_0.01", SW_DECAY_RATE);
+    print_message("standingWave_0.01: decay rate %.4g /s\n", g);
+    assert_true(g > 0.8 && g < 1.3);
+}
+
+/* The standing wave at a constant step r0 / 5 s/m with nu 1e-3 m^2/s and
+ * free-slip walls (boundaryNu 0: the linear mode satisfies them, so the
+ * exact decay rate is 2 nu k^2 = 0.4935 /s; standingWave/viscous/).  The
+ * excess is the numerical damping, which falls with r0: decayError
+ * |rate - 2 nu k^2| / (2 nu k^2) measured 1.957 at r0 0.01 m, 0.8385 at
+ * 0.005 (2.33x).  The period's error: measured 0.0542, 0.0407 (it levels
+ * off, doc/verification.md).  Tolerances: 1.2x the measured, >= 1.5x per
+ * halving.  Two threads (the same result as one). */
+#define SW_VISCOUS                                                                           \
+    "E=%s/editDictionary && $E constant/fluidProperties -entry laminarViscosity -set '{ nu " \
+    "0.001; boundaryNu 0; }' && $E system/verifyDict -entry nu -set 0.001 && $E "            \
+    "system/controlDict -entry numberOfThreads -set 2"
+static void test_standing_wave_decay(void **state)
+{
+    (void)state;
+    char edit[512];
+    snprintf(edit, sizeof edit, SW_VISCOUS, bin_dir());
+    double p1 = level("standingWave", "standingWave_viscous_0.01", 0.01, 0.002, edit);
+    double p2 = level("standingWave", "standingWave_viscous_0.005", 0.005, 0.001, edit);
+    double e1 = summary_column("standingWave_viscous_0.01", SW_DECAY_ERROR);
+    double e2 = summary_column("standingWave_viscous_0.005", SW_DECAY_ERROR);
+    print_message("decay error %.4g, %.4g (%.3gx); rates %.4g, %.4g /s\n", e1, e2, e1 / e2,
+                  summary_column("standingWave_viscous_0.01", SW_DECAY_RATE),
+                  summary_column("standingWave_viscous_0.005", SW_DECAY_RATE));
+    assert_true(p1 < 0.065 && p2 < 0.049);
+    assert_true(e1 < 2.35 && e2 < 1.0);
+    assert_true(e1 / e2 >= 1.5);
 }
 
 /* The Taylor-Green velocity field as set up (velocityField) and its first
@@ -567,6 +617,7 @@ int main(void)
         cmocka_unit_test(test_relaxed_packing),
         cmocka_unit_test(test_relaxed_to_tolerance),
         cmocka_unit_test(test_standing_wave_period),
+        cmocka_unit_test(test_standing_wave_decay),
         cmocka_unit_test(test_taylor_green_start),
         cmocka_unit_test(test_taylor_green_lattice_strain),
         cmocka_unit_test(test_taylor_green_reverses_at_a_strain),

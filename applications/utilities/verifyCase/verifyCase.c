@@ -9,7 +9,9 @@
  * (poiseuille, taylorGreen), the mean (hydrostatic, translatingTank: they
  * oscillate about their settled state), or for standingWave the period's
  * relative error, from the zero crossings of the velocity's projection on
- * the linear mode (all written times, the first included).  With
+ * the linear mode (all written times, the first included), and its
+ * amplitude's decay rate against the viscous 2 nu k^2 (summary.dat's
+ * decayRate, decayExact, decayError).  With
  * -table a row "label kind r0 particles error wallTime steps" is appended
  * to <file> (a header first when the file is new); wallTime is the sum of
  * the steps' wall seconds of postProcessing/timeStep/0/timeStep.dat (the
@@ -70,41 +72,90 @@ static double wall_time(const char *dir, long *steps)
     return sum;
 }
 
-/* The standing wave's period from the zero crossings of the velocity's
- * projection on the linear mode (A w cos(w t) for the exact answer):
- * successive crossings are half a period apart, T / 2 is the slope of the
- * least-squares line through the crossing times against their number
- * (a phase shift of the start does not enter; with one crossing, at T / 4,
- * T = 4 t).  Crossings found by linear interpolation between written
- * times; one closer than a quarter period Te / 4 to the previous one is
- * noise and left out.  NAN when there is none. */
-static double wave_period(const vc_sample *s, size_t n, double Te, int *ncross)
+/* The zero crossings of the standing wave's velocity projection on the
+ * linear mode (A w cos(w t) for the exact answer), by linear interpolation
+ * between written times: their times tc[] and the sample before each,
+ * at[] (at most n - 1).  One closer than a quarter period Te / 4 to the
+ * previous one is noise and left out.  Returns their number. */
+static int wave_crossings(const vc_sample *s, size_t n, double Te, double *tc, size_t *at)
 {
-    double sj = 0.0, st = 0.0, sjj = 0.0, sjt = 0.0, last = -INFINITY, first = 0.0;
+    double last = -INFINITY;
     int j = 0;
     for (size_t i = 1; i < n; i++) {
         const double m0 = s[i - 1].mode, m1 = s[i].mode;
         if (!(m0 * m1 < 0.0 || (m1 == 0.0 && m0 != 0.0))) continue;
-        const double tc = s[i - 1].t + (s[i].t - s[i - 1].t) * m0 / (m0 - m1);
-        if (tc - last < 0.25 * Te) continue;
-        if (j == 0) first = tc;
-        sj += j;
-        st += tc;
-        sjj += (double)j * j;
-        sjt += j * tc;
+        const double t = s[i - 1].t + (s[i].t - s[i - 1].t) * m0 / (m0 - m1);
+        if (t - last < 0.25 * Te) continue;
+        tc[j] = t;
+        at[j] = i - 1;
         j++;
-        last = tc;
+        last = t;
     }
-    *ncross = j;
-    if (j == 0) return (double)NAN;
-    if (j == 1) return 4.0 * first;
-    return 2.0 * (j * sjt - sj * st) / (j * sjj - sj * sj);
+    return j;
+}
+
+/* The period from the crossings: successive crossings are half a period
+ * apart, T / 2 is the slope of the least-squares line through the
+ * crossing times against their number (a phase shift of the start does
+ * not enter; with one crossing, at T / 4, T = 4 t).  NAN when none. */
+static double wave_period(const double *tc, int nc)
+{
+    double sj = 0.0, st = 0.0, sjj = 0.0, sjt = 0.0;
+    if (nc == 0) return (double)NAN;
+    if (nc == 1) return 4.0 * tc[0];
+    for (int j = 0; j < nc; j++) {
+        sj += j;
+        st += tc[j];
+        sjj += (double)j * j;
+        sjt += j * tc[j];
+    }
+    return 2.0 * (nc * sjt - sj * st) / (nc * sjj - sj * sj);
+}
+
+/* The amplitude's decay rate (1/s): the extremes of the mode's projection,
+ * one per half period (the start, where the wave is set up at its largest
+ * velocity, then the largest |mode| between two crossings, or after the
+ * last one if the run goes past it, refined by the parabola through it
+ * and its neighbours), and minus the slope of the least-squares line
+ * through log |extreme| against its time.  NAN with fewer than two. */
+static double wave_decay(const vc_sample *s, size_t n, const size_t *at, int nc, int *npeaks)
+{
+    double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+    int m = 0;
+    for (int j = 0; j <= nc && n > 0; j++) {
+        const size_t a = j == 0 ? 0 : at[j - 1] + 1, b = j < nc ? at[j] : n - 1;
+        size_t k = a;
+        for (size_t i = a; i <= b; i++)
+            if (fabs(s[i].mode) > fabs(s[k].mode)) k = i;
+        double t = s[k].t, y = fabs(s[k].mode);
+        if (k > a && k < b) { /* the parabola through k - 1, k, k + 1 */
+            const double y0 = fabs(s[k - 1].mode), y2 = fabs(s[k + 1].mode),
+                         den = y0 - 2.0 * y + y2, h = 0.5 * (s[k + 1].t - s[k - 1].t);
+            if (den < 0.0) {
+                const double d = 0.5 * (y0 - y2) / den;
+                t += d * h;
+                y -= 0.25 * (y0 - y2) * d;
+            }
+        } else if (k != 0 || j != 0) {
+            continue; /* at a crossing or the run's end: no extreme in this half period */
+        }
+        const double ly = log(y);
+        sx += t;
+        sy += ly;
+        sxx += t * t;
+        sxy += t * ly;
+        m++;
+    }
+    *npeaks = m;
+    if (m < 2) return (double)NAN;
+    return -(m * sxy - sx * sy) / (m * sxx - sx * sx);
 }
 
 /* <case>/postProcessing/verifyCase/summary.dat: one row, for sweepCase's
  * results (e.g. postProcessing/verifyCase/summary.dat:error). */
 static void write_summary(const sl_case *c, const vc_setup *s, double error, double perr,
-                          double vrms, double wall, long steps, double reached)
+                          double vrms, double wall, long steps, double reached,
+                          const double decay[3])
 {
     sl_err err;
     char path[4096];
@@ -116,10 +167,14 @@ static void write_summary(const sl_case *c, const vc_setup *s, double error, dou
     fprintf(f,
             "# verifyCase: %s against its exact answer (system/verifyDict)\n"
             "# reached: the latest written time over endTime (< 1: the run stopped early)\n"
-            "# error\tpressureError\tvelocityRms\tparticles\tr0\twallTime\tsteps\treached\n",
+            "# decayRate, decayExact (1/s): standingWave's amplitude decay, measured and "
+            "2 nu k^2;\n"
+            "#   decayError |decayRate - decayExact| / decayExact (NaN when nu is 0)\n"
+            "# error\tpressureError\tvelocityRms\tparticles\tr0\twallTime\tsteps\treached"
+            "\tdecayRate\tdecayExact\tdecayError\n",
             vc_kind_names[s->kind]);
-    fprintf(f, "%.8g\t%.8g\t%.8g\t%zu\t%g\t%.6g\t%ld\t%.6g\n", error, perr, vrms, s->nfluid, s->r0,
-            wall, steps, reached);
+    fprintf(f, "%.8g\t%.8g\t%.8g\t%zu\t%g\t%.6g\t%ld\t%.6g\t%.8g\t%.8g\t%.8g\n", error, perr, vrms,
+            s->nfluid, s->r0, wall, steps, reached, decay[0], decay[1], decay[2]);
     if (fclose(f)) sl_fatal("cannot write '%s'", path);
 }
 
@@ -166,15 +221,17 @@ int main(int argc, char **argv)
             counted++;
         }
     }
-    double error = worst;
+    double error = worst, decay[3] = {NAN, NAN, NAN};
     const char *what = "largest over the times";
     if (s.kind == VC_HYDROSTATIC || s.kind == VC_TRANSLATING) {
         error = counted ? mean / (double)counted : (double)NAN;
         what = "mean over the times";
     } else if (s.kind == VC_WAVE) {
         const double Te = vc_wave_period(s.gmag, s.hi[0] - s.lo[0], s.depth);
-        int ncross;
-        double T = wave_period(smp, times.n, Te, &ncross);
+        double *tc = sl_malloc(times.n * sizeof *tc, "crossings");
+        size_t *at = sl_malloc(times.n * sizeof *at, "crossings");
+        const int ncross = wave_crossings(smp, times.n, Te, tc, at);
+        const double T = wave_period(tc, ncross);
         if (!isfinite(T))
             sl_fatal("%s: the velocity's projection on the wave's mode does not change sign in "
                      "the written times: write more often than a quarter period (%.4g s) and "
@@ -183,6 +240,16 @@ int main(int argc, char **argv)
         error = fabs(T - Te) / Te;
         printf("# period %.6g s from %d zero crossings, linear theory %.6g s (L %g m, H %.6g m)\n",
                T, ncross, Te, s.hi[0] - s.lo[0], s.depth);
+        const double k = 3.14159265358979323846 / (s.hi[0] - s.lo[0]);
+        int npeaks;
+        decay[0] = wave_decay(smp, times.n, at, ncross, &npeaks);
+        decay[1] = 2.0 * s.nu * k * k;
+        decay[2] = s.nu > 0.0 ? fabs(decay[0] - decay[1]) / decay[1] : (double)NAN;
+        printf("# amplitude decay %.6g /s from %d extremes, viscous 2 nu k^2 %.6g /s (nu %g "
+               "m^2/s of verifyDict), error %.6g of it\n",
+               decay[0], npeaks, decay[1], s.nu, decay[2]);
+        free(tc);
+        free(at);
         what = "relative error of the period";
         counted = 1;
     }
@@ -196,8 +263,8 @@ int main(int argc, char **argv)
         sl_warning("%s: the run stopped at t = %g s before its endTime %g s: the error is that "
                    "of the times written",
                    c.dir, last, c.ctl.end_time);
-    write_summary(&c, &s, error, smp[times.n - 1].perr, smp[times.n - 1].vrms, wall, steps,
-                  reached);
+    write_summary(&c, &s, error, smp[times.n - 1].perr, smp[times.n - 1].vrms, wall, steps, reached,
+                  decay);
     if (table) {
         const char *label = app_string(&a, "label", NULL);
         if (!label) {
