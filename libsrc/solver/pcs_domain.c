@@ -86,7 +86,6 @@ struct pcs_domain {
     size_t gbuf_cap;
     uint64_t *tail;
     size_t tail_cap;
-    pcs_snapshot full;
     int *pcnt, *pdis;
     pcd_counts c;
     double stored_sum, halo_sum;
@@ -544,7 +543,6 @@ static struct pcs_domain *domain_new(const nbr_grid *g, int p, int depth)
     prt_fluid_init(&d->mirror);
     prt_boundary_init(&d->mbound);
     nbr_list_init(&d->mbf);
-    snap_init(&d->full);
     return d;
 }
 
@@ -743,7 +741,6 @@ static void domain_free(struct pcs_domain *d)
     nbr_list_free(&d->mbf);
     sl_free_aligned(d->gbuf);
     free(d->tail);
-    snap_free(&d->full);
     out_free(d->out);
     sl_free_aligned(d->nearbox);
     free(d->nearmark), free(d->cell_lin);
@@ -1591,45 +1588,6 @@ const nbr_list *pcd_mirror_bf(const pcs_solver *s)
 {
     const struct pcs_domain *d = s->split.dd;
     return d && d->have_mirror && d->mbf.start ? &d->mbf : NULL;
-}
-
-const pcs_snapshot *pcd_full_snapshot(pcs_solver *s, const pcs_snapshot *mine)
-{
-    struct pcs_domain *d = s->split.dd;
-    if (!d) return mine;
-    const int p = s->split.size, me = s->split.rank;
-    const size_t n = mine->n;
-    enum { W = 7 };
-    par_allgather_long((long)n, d->all_n);
-    size_t total = 0;
-    for (int r = 0; r < p; r++) {
-        d->pcnt[r] = as_int(W * (size_t)d->all_n[r]);
-        d->pdis[r] = as_int(total);
-        total += (size_t)d->pcnt[r];
-    }
-    d->sbuf = grow(d->sbuf, &d->sbuf_cap, W * n + 1, sizeof *d->sbuf, "output buffer");
-    for (size_t i = 0; i < n; i++) {
-        double *o = d->sbuf + W * i;
-        o[0] = mine->x[i], o[1] = mine->y[i], o[2] = mine->z[i];
-        o[3] = mine->vx[i], o[4] = mine->vy[i], o[5] = mine->vz[i];
-        o[6] = (double)mine->id[i];
-    }
-    if (!me) d->gbuf = grow(d->gbuf, &d->gbuf_cap, total + 1, sizeof *d->gbuf, "output buffer");
-    par_gatherv_root(d->sbuf, d->pcnt[me], d->gbuf, d->pcnt, d->pdis);
-    if (me) return mine;
-    const size_t N = total / W;
-    pcs_snapshot *full = &d->full;
-    snap_resize(full, N);
-    for (size_t i = 0; i < N; i++) {
-        const double *o = d->gbuf + W * i;
-        full->x[i] = o[0], full->y[i] = o[1], full->z[i] = o[2];
-        full->vx[i] = o[3], full->vy[i] = o[4], full->vz[i] = o[5];
-        full->id[i] = (uint32_t)o[6];
-    }
-    full->time = mine->time;
-    full->dt = mine->dt;
-    full->step = mine->step;
-    return full;
 }
 
 void pcd_localize_snapshot(const pcs_solver *s, pcs_snapshot *snap)

@@ -120,10 +120,6 @@ const sl_fluid *pcd_mirror(const pcs_solver *s);
 const nbr_grid *pcd_mirror_grid(const pcs_solver *s);
 const nbr_list *pcd_mirror_bf(const pcs_solver *s);
 const sl_boundary *pcd_mirror_boundary(const pcs_solver *s);
-/* The whole of a snapshot whose particles are spread over the ranks (the
- * state at the start of a step), on rank 0: for restart files
- * (collective; rank 0 gets the gathered copy, the others `mine`). */
-const pcs_snapshot *pcd_full_snapshot(pcs_solver *s, const pcs_snapshot *mine);
 /* A snapshot of the whole state (a restart file read by every rank) cut
  * down to this rank's particles. */
 void pcd_localize_snapshot(const pcs_solver *s, pcs_snapshot *snap);

@@ -95,11 +95,6 @@ int snap_equal(const pcs_snapshot *a, const pcs_snapshot *b)
         !memcmp(a->vz, b->vz, bytes) && !memcmp(a->id, b->id, a->n * sizeof *a->id);
 }
 
-const pcs_snapshot *pcs_whole_snapshot(pcs_solver *s, const pcs_snapshot *mine)
-{
-    return s->split.domain ? pcd_full_snapshot(s, mine) : mine;
-}
-
 void pcs_own_snapshot(const pcs_solver *s, pcs_snapshot *snap)
 {
     if (s->split.domain) pcd_localize_snapshot(s, snap);

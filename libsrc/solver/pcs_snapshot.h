@@ -36,11 +36,9 @@ void snap_push(pcs_snapshot *s, double x, double y, double z, double vx, double 
 /* Copy back into f (whose capacity must hold s->n particles). */
 void snap_restore(const pcs_snapshot *s, sl_fluid *f);
 /* -parallel's domain mode (solver/pcs_domain.h), where each rank holds
- * its own particles: the whole of a snapshot gathered on rank 0 (for
- * restart files; collective, the other ranks get `mine` back); and a
- * snapshot of every particle (a restart file read by every rank) cut
- * down to this rank's.  Otherwise `mine` / nothing. */
-const pcs_snapshot *pcs_whole_snapshot(pcs_solver *s, const pcs_snapshot *mine);
+ * its own particles: a snapshot of every particle cut down to this
+ * rank's (restart files are written streamed, never gathered whole).
+ * Otherwise nothing. */
 void pcs_own_snapshot(const pcs_solver *s, pcs_snapshot *snap);
 /* Bitwise equality of two snapshots (for tests). */
 int snap_equal(const pcs_snapshot *a, const pcs_snapshot *b);
