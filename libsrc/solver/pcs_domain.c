@@ -2014,10 +2014,12 @@ int pcd_output_begin(pcs_solver *s, const pcs_snapshot *prev)
     size_t m = 0;
     for (size_t j = 0; j < b->n; j++) {
         if (!own_boundary(d, b->id[j])) continue;
-        if (m == nb) break;
-        o->bkey[m++] = (out_bkey){
-            (uint64_t)nbr_cell_rank(&s->grid, b->x[j], b->y[j], b->z[j]) << 32 | b->id[j],
-            (uint32_t)j};
+        /* count every own one, store at most nb: more than nb is caught below */
+        if (m < nb)
+            o->bkey[m] = (out_bkey){
+                (uint64_t)nbr_cell_rank(&s->grid, b->x[j], b->y[j], b->z[j]) << 32 | b->id[j],
+                (uint32_t)j};
+        m++;
     }
     if (m != nb)
         sl_fatal("pcs_domain: %zu own boundary particles stored of %zu (internal error)", m, nb);
