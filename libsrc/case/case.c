@@ -8,6 +8,7 @@
 #include "effects/moving_boundary.h"
 #include "geometry/mesh.h"
 #include "boundary/bnd_methods.h"
+#include "parallel/par.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -156,17 +157,10 @@ static void read_timestep(sl_case *c)
 
 /* The keys of constant/fluidProperties besides the effects' own entries
  * (effects/: eff_fluid_effects). */
-static const char *const fluid_keys[] = {"rho0",
-                                         "particleSpacing",
-                                         "gravity",
-                                         "eta",
-                                         "minIterations",
-                                         "maxIterations",
-                                         "fluidRegions",
-                                         "emitters",
-                                         "initialPacking",
-                                         "kernelSupport",
-                                         NULL};
+static const char *const fluid_keys[] = {"rho0",          "particleSpacing", "gravity",
+                                         "eta",           "minIterations",   "maxIterations",
+                                         "fluidRegions",  "emitters",        "initialPacking",
+                                         "kernelSupport", "pressureSource",  NULL};
 
 /* fluid_keys and the names of the effects of constant/fluidProperties. */
 static const char **fluid_and_effect_keys(void)
@@ -407,6 +401,61 @@ static void read_packing(sl_case *c, const dict *d)
                   "particle must stay inside its cube of the lattice, r0 / 2 from the walls");
 }
 
+/* pressureSource: what the pressure update corrects (solver/pcisph.h):
+ *   pressureSource density;       the predicted density error (the paper's, default)
+ *   pressureSource divergence;    the predicted density change over the step (DFSPH's
+ *                                 divergence source), warm-started
+ *   pressureSource mixed;         the divergence source plus densityWeight (0.05) of the
+ *                                 density error
+ *   pressureSource { type divergence; warmStart off; gradientCorrection on; }
+ * and densityWeight in the dictionary of type mixed. */
+static void read_source(const dict *d, pcs_params *p)
+{
+    static const char *const types[] = {"density", "divergence", "mixed", NULL};
+    static const char *const keys[] = {"type", "densityWeight", "warmStart", "gradientCorrection",
+                                       NULL};
+    sl_err err;
+    const char *w;
+    p->source = PCS_SOURCE_DENSITY;
+    p->warm_start = 1;
+    p->grad_correction = 0;
+    if (!dict_has(d, "pressureSource")) return;
+    const dict *q = dict_sub(d, "pressureSource");
+    if (!q) {
+        if (dict_get_word(d, "pressureSource", &w, &err))
+            bad_value(d, "pressureSource",
+                      "must be density, divergence, mixed or { type divergence; warmStart on; "
+                      "gradientCorrection off; }");
+        p->source = choose(d, "pressureSource", w, types);
+    } else {
+        dict_warn_unknown(q, keys);
+        need(dict_get_word(q, "type", &w, &err), &err);
+        p->source = choose(q, "type", w, types);
+        if (dict_has(q, "densityWeight") && p->source != PCS_SOURCE_MIXED)
+            bad_value(q, "densityWeight", "is the weight of type mixed only");
+        if (p->source == PCS_SOURCE_DENSITY && dict_size(q) > 1)
+            bad_value(q, "type",
+                      "density takes no options (warmStart and gradientCorrection are those of "
+                      "divergence and mixed)");
+        need(dict_get_bool_or(q, "warmStart", 1, &p->warm_start, &err), &err);
+        need(dict_get_bool_or(q, "gradientCorrection", 0, &p->grad_correction, &err), &err);
+    }
+    if (p->source == PCS_SOURCE_MIXED) {
+        p->source_mix = CASE_SOURCE_MIX;
+        if (q)
+            need(dict_get_scalar_or(q, "densityWeight", CASE_SOURCE_MIX, &p->source_mix, &err),
+                 &err);
+        if (!(p->source_mix > 0.0 && p->source_mix < 1.0))
+            bad_value(q, "densityWeight",
+                      "must be the density error's weight in the source, above 0 (divergence) "
+                      "and below 1 (density)");
+    }
+    if (p->source != PCS_SOURCE_DENSITY && par_size() > 1)
+        bad_value(d, "pressureSource",
+                  "divergence and mixed are not yet parallel: run without -parallel (or "
+                  "pressureSource density)");
+}
+
 static void read_fluid(sl_case *c)
 {
     static const double g0[3] = {0, 0, -9.81};
@@ -456,6 +505,7 @@ static void read_fluid(sl_case *c)
         bad_value(d, "maxIterations", why);
     }
     p->max_iter = (int)l;
+    read_source(d, p);
     /* the effects of the fluid, in the order they act: gravity first */
     void *g = eff_gravity_new(p->gravity);
     if (g) eff_add(&c->effects, &eff_gravity, g);
@@ -637,6 +687,10 @@ static void read_boundary(sl_case *c)
     need(dict_get_word_or(d, "method", c->prm.method->name, &w, &err), &err);
     const char *const *methods = bnd_method_names();
     c->prm.method = bnd_method_find(methods[choose(d, "method", w, methods)]);
+    if (c->prm.source != PCS_SOURCE_DENSITY && c->prm.method == &harada2007_method)
+        bad_value(d, "method",
+                  "harada2007's wall weight has no divergence term: pressureSource divergence "
+                  "and mixed (constant/fluidProperties) need ihmsen2010 or becker2009");
     need(dict_get_scalar_or(d, "restitution", 0.0, &c->prm.restitution, &err), &err);
     if (!(c->prm.restitution >= 0.0 && c->prm.restitution <= 1.0))
         bad_value(d, "restitution", "must be in [0, 1]");

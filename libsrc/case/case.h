@@ -73,6 +73,8 @@ typedef struct case_packing {
 /* initialPacking's compiled defaults (etc/caseDicts/fluidProperties) */
 #define CASE_RELAX_STEPS  300
 #define CASE_RELAX_JITTER 0.1
+/* pressureSource mixed: the density error's weight (densityWeight) */
+#define CASE_SOURCE_MIX 0.05
 
 enum { CASE_FIELD_NONE, CASE_FIELD_TAYLOR_GREEN, CASE_FIELD_STANDING_WAVE };
 

@@ -135,6 +135,30 @@ static inline void correct_density(const pcs_solver *s, const eff_view *v, size_
         s->dens[q]->type->correct(s->dens[q]->state, v, i, x, y, z, rb, r, rv);
 }
 
+/* pressureSource divergence and mixed: the predicted density change of
+ * active boundary particle i over the step, from the fluid's
+ * displacements d_f = x*_f - x_f(t) and the wall's dt v_b:
+ * sum_f m grad W(x_b - x_f(t)) . (dt v_b - d_f), its fluid neighbours in
+ * the order of its list. */
+static double boundary_change(const pcs_solver *s, uint32_t i)
+{
+    const sl_boundary *b = s->b;
+    const sl_fluid *f = s->f;
+    const krn_kernel k = s->k;
+    const double dt = s->dt, xb = b->x[i], yb = b->y[i], zb = b->z[i];
+    const double ux = dt * b->vx[i], uy = dt * b->vy[i], uz = dt * b->vz[i];
+    double sum = 0.0;
+    for (uint32_t q = s->bf.start[i]; q < s->bf.start[i + 1]; q++) {
+        const uint32_t j = s->bf.idx[q];
+        const double rx = xb - f->x[j], ry = yb - f->y[j], rz = zb - f->z[j];
+        const double g = krn_gradf(&k, sqrt(rx * rx + ry * ry + rz * rz));
+        sum += g *
+            (rx * (ux - (f->xs[j] - f->x[j])) + ry * (uy - (f->ys[j] - f->y[j])) +
+             rz * (uz - (f->zs[j] - f->z[j])));
+    }
+    return s->mass * sum;
+}
+
 /* Predicted density and pressure of the active boundary particles (eq. 13
  * and eq. 3), for the methods whose walls take part in the solve.  Called
  * inside the fluid's density pass's parallel region (its loop is shared
@@ -168,7 +192,14 @@ static void boundary_density(const pcs_solver *s, int part)
             m *
                 sph_sum_w(k, bfi, bfs[i], bfs[i + 1], bx[i], by[i], bz[i], xs, ys,
                           zs); /* eq. (13) */
-        const double pn = bp[i] + delta * (r - rho0);
+        double e = r - rho0;
+        if (s->prm.source != PCS_SOURCE_DENSITY) {
+            const double d = boundary_change(s, i);
+            e = s->prm.source == PCS_SOURCE_DIVERGENCE
+                ? d
+                : (1.0 - s->prm.source_mix) * d + s->prm.source_mix * e;
+        }
+        const double pn = bp[i] + delta * e;
         const double pc = pn > 0.0 ? pn : 0.0;
         brho[i] = r;
         bp[i] = pc;
@@ -323,7 +354,12 @@ typedef struct pass_ctx {
     krn_kernel k;
     double m, rho0, delta, self;
     const uint32_t *ffs, *ffi, *fbs, *fbi;
-    const double *x, *y, *z; /* positions of the pass: x* or x(t) */
+    const double *x, *y, *z;    /* positions of the pass: x* or x(t) */
+    const double *x0, *y0, *z0; /* x(t): the displacements x* - x(t) of pressureSource */
+    const double *bvx, *bvy, *bvz;
+    double dt, mix;
+    int source;       /* pressureSource (PCS_SOURCE_*) */
+    const double *lc; /* the gradient correction of each fluid particle (9 per particle) */
     const double *bx, *by, *bz, *bm;
     double *rho, *p, *pt, *err, *err_vol;
     double *apx, *apy, *apz;
@@ -349,6 +385,16 @@ static pass_ctx pass_begin(pcs_solver *s, const double *x, const double *y, cons
                   .x = x,
                   .y = y,
                   .z = z,
+                  .x0 = f->x,
+                  .y0 = f->y,
+                  .z0 = f->z,
+                  .bvx = b->vx,
+                  .bvy = b->vy,
+                  .bvz = b->vz,
+                  .dt = s->dt,
+                  .mix = s->prm.source_mix,
+                  .source = s->prm.source,
+                  .lc = s->prm.grad_correction ? s->lcorr : NULL,
                   .bx = b->x,
                   .by = b->y,
                   .bz = b->z,
@@ -397,8 +443,46 @@ static inline __attribute__((always_inline)) double fluid_density(const pass_ctx
     return r;
 }
 
+/* pressureSource divergence and mixed: the predicted density change of
+ * fluid particle i over the step from the displacements d = x* - x(t)
+ * (dt v* where no collision moved it), at x(t): sum_j m (d_i - d_j) .
+ * L_i grad W(x_i - x_j) over its fluid neighbours and, with walls in the
+ * solve (eq. 13), sum_b m_b (d_i - dt v_b) . L_i grad W(x_i - x_b) over
+ * its boundary neighbours, each in the order of its list; L_i the
+ * gradient correction (gradientCorrection on), else the identity. */
+static inline double fluid_change(const pass_ctx *c, size_t i, const int wall)
+{
+    const double xi = c->x0[i], yi = c->y0[i], zi = c->z0[i];
+    const double dx = c->x[i] - xi, dy = c->y[i] - yi, dz = c->z[i] - zi;
+    static const double unit[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    const double *L = c->lc ? c->lc + 9 * i : unit;
+    double sf = 0.0;
+    for (uint32_t q = c->ffs[i]; q < c->ffs[i + 1]; q++) {
+        const uint32_t j = c->ffi[q];
+        const double rx = xi - c->x0[j], ry = yi - c->y0[j], rz = zi - c->z0[j];
+        const double g = krn_gradf(&c->k, sqrt(rx * rx + ry * ry + rz * rz));
+        sf += g *
+            ((L[0] * rx + L[1] * ry + L[2] * rz) * (dx - (c->x[j] - c->x0[j])) +
+             (L[3] * rx + L[4] * ry + L[5] * rz) * (dy - (c->y[j] - c->y0[j])) +
+             (L[6] * rx + L[7] * ry + L[8] * rz) * (dz - (c->z[j] - c->z0[j])));
+    }
+    double sb = 0.0;
+    if (wall)
+        for (uint32_t q = c->fbs[i]; q < c->fbs[i + 1]; q++) {
+            const uint32_t j = c->fbi[q];
+            const double rx = xi - c->bx[j], ry = yi - c->by[j], rz = zi - c->bz[j];
+            const double g = krn_gradf(&c->k, sqrt(rx * rx + ry * ry + rz * rz));
+            sb += c->bm[j] * g *
+                ((L[0] * rx + L[1] * ry + L[2] * rz) * (dx - c->dt * c->bvx[j]) +
+                 (L[3] * rx + L[4] * ry + L[5] * rz) * (dy - c->dt * c->bvy[j]) +
+                 (L[6] * rx + L[7] * ry + L[8] * rz) * (dz - c->dt * c->bvz[j]));
+        }
+    return c->m * sf + sb;
+}
+
 /* Predicted density of fluid particle i at x* and its pressure update
- * p += delta rho_err* (eq. 3), clamped at zero; returns its compression. */
+ * p += delta rho_err* (eq. 3), clamped at zero; returns its compression
+ * (pressureSource divergence and mixed: rho_err* is their source). */
 static inline __attribute__((always_inline)) double
 predict_one(const pass_ctx *c, size_t i, const int wall, const wall_density_fn wall_term)
 {
@@ -406,7 +490,11 @@ predict_one(const pass_ctx *c, size_t i, const int wall, const wall_density_fn w
     const double r = fluid_density(c, i, 1, wall_term, &rv);
     c->rho[i] = r;
     if (!wall) c->err_vol[i] = rv > c->rho0 ? rv - c->rho0 : 0.0;
-    const double e = r - c->rho0;
+    double e = r - c->rho0;
+    if (c->source != PCS_SOURCE_DENSITY) {
+        const double d = fluid_change(c, i, wall);
+        e = c->source == PCS_SOURCE_DIVERGENCE ? d : (1.0 - c->mix) * d + c->mix * e;
+    }
     const double pn = c->p[i] + c->delta * e; /* eq. (3) */
     const double pc = pn > 0.0 ? pn : 0.0;
     c->p[i] = pc;
@@ -666,6 +754,7 @@ void pcs_free(pcs_solver *s)
     sl_free_aligned(s->vol_block);
     sl_free_aligned(s->err_vol);
     sl_free_aligned(s->ap_best);
+    sl_free_aligned(s->lcorr);
     if (s->prm.method && s->prm.method->free) s->prm.method->free(s->bstate);
     free(s->dens);
     dom_halo_free(&s->halo);
@@ -700,6 +789,10 @@ static void ensure_scratch(pcs_solver *s)
         if (s->prm.max_iter > s->prm.min_iter) {
             sl_free_aligned(s->ap_best);
             s->ap_best = sl_alloc_aligned(3 * s->f->cap * sizeof *s->ap_best, "pressure force");
+        }
+        if (s->prm.grad_correction) {
+            sl_free_aligned(s->lcorr);
+            s->lcorr = sl_alloc_aligned(9 * s->f->cap * sizeof *s->lcorr, "gradient correction");
         }
         if (!s->prm.method->wall_density) {
             sl_free_aligned(s->err_vol);
@@ -753,10 +846,13 @@ void pcs_find_neighbours(pcs_solver *s)
 
 /* Non-pressure forces per unit mass (the forces-stage effects the case
  * named: the uniform ones set with the reset, the others each a pass);
- * zero pressure and pressure force of fluid and active boundary. */
+ * zero pressure and pressure force of fluid and active boundary (with
+ * pressureSource divergence or mixed the pressures are kept: the warm
+ * start, warm_start below). */
 static void compute_forces(pcs_solver *s)
 {
     sl_fluid *f = s->f;
+    const int keep = s->prm.source != PCS_SOURCE_DENSITY && s->prm.warm_start;
     double g[3];
     eff_uniform(s->eff, g); /* gravity */
     const double gx = g[0], gy = g[1], gz = g[2];
@@ -770,10 +866,12 @@ static void compute_forces(pcs_solver *s)
             f->ay[i] = gy;
             f->az[i] = gz;
             f->apx[i] = f->apy[i] = f->apz[i] = 0.0;
-            f->p[i] = 0.0;
+            if (!keep) f->p[i] = 0.0;
         }
+        if (!keep) {
 #pragma omp for schedule(static) nowait
-        for (size_t q = 0; q < s->nactive; q++) pb[act[q]] = 0.0;
+            for (size_t q = 0; q < s->nactive; q++) pb[act[q]] = 0.0;
+        }
     }
     eff_view v = effect_view(s, s->t, s->dt, f->x, f->y, f->z);
     if (s->split.halo) { /* a rank predicts and integrates its own rows only */
@@ -919,11 +1017,89 @@ static void halo_refresh(pcs_solver *s, int what)
     s->time.halo += omp_get_wtime() - t0;
 }
 
+/* pressureSource divergence and mixed: the step starts from the last
+ * step's pressures (as DFSPH's solvers do), since the divergence source
+ * only corrects what the step would change: their force at x(t) (p /
+ * rho^2 with the density of the last prediction) is the first iteration's
+ * F^p.  Serial and periodic images only (the case reader refuses these
+ * sources under -parallel). */
+static void warm_start(pcs_solver *s)
+{
+    sl_fluid *f = s->f;
+    const size_t n = f->n;
+#pragma omp parallel for schedule(static)
+    for (size_t i = 0; i < n; i++) {
+        f->xs[i] = f->x[i];
+        f->ys[i] = f->y[i];
+        f->zs[i] = f->z[i];
+        f->pt[i] = f->p[i] / (f->rho[i] * f->rho[i]);
+    }
+    halo_refresh(s, 0);
+    halo_refresh(s, 1);
+    PHASE(s, pressure, s->passes->pressure(s));
+}
+
+/* pressureSource divergence: the kernel gradient correction of each fluid
+ * particle at x(t), L_i = (sum_j V_j grad W_ij (x_j - x_i)^T)^-1 over its
+ * fluid and boundary neighbours (V_j = m_j / rho0; Bonet & Lok 1999), the
+ * identity where the sum is near singular (a deficient neighbourhood). */
+static void gradient_correction(pcs_solver *s)
+{
+    const sl_fluid *f = s->f;
+    const sl_boundary *b = s->b;
+    const krn_kernel k = s->k;
+    const double vf = s->mass / s->prm.rho0, irho0 = 1.0 / s->prm.rho0;
+    const size_t n = f->n;
+    double *lc = s->lcorr;
+#pragma omp parallel for schedule(dynamic, 1024)
+    for (size_t i = 0; i < n; i++) {
+        double A[9] = {0};
+        const double xi = f->x[i], yi = f->y[i], zi = f->z[i];
+        for (uint32_t q = s->ff.start[i]; q < s->ff.start[i + 1]; q++) {
+            const uint32_t j = s->ff.idx[q];
+            const double r[3] = {xi - f->x[j], yi - f->y[j], zi - f->z[j]};
+            const double g = vf * krn_gradf(&k, sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]));
+            for (int a = 0; a < 3; a++)
+                for (int c = 0; c < 3; c++) A[3 * a + c] -= g * r[a] * r[c];
+        }
+        for (uint32_t q = s->fb.start[i]; q < s->fb.start[i + 1]; q++) {
+            const uint32_t j = s->fb.idx[q];
+            const double r[3] = {xi - b->x[j], yi - b->y[j], zi - b->z[j]};
+            const double g =
+                b->mass[j] * irho0 * krn_gradf(&k, sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]));
+            for (int a = 0; a < 3; a++)
+                for (int c = 0; c < 3; c++) A[3 * a + c] -= g * r[a] * r[c];
+        }
+        const double c00 = A[4] * A[8] - A[5] * A[7], c01 = A[5] * A[6] - A[3] * A[8],
+                     c02 = A[3] * A[7] - A[4] * A[6];
+        const double det = A[0] * c00 + A[1] * c01 + A[2] * c02;
+        double *L = lc + 9 * i;
+        if (!(det > 0.125)) { /* a deficient neighbourhood: no correction */
+            for (int a = 0; a < 9; a++) L[a] = (a % 4 == 0) ? 1.0 : 0.0;
+            continue;
+        }
+        const double id = 1.0 / det;
+        L[0] = c00 * id;
+        L[1] = (A[2] * A[7] - A[1] * A[8]) * id;
+        L[2] = (A[1] * A[5] - A[2] * A[4]) * id;
+        L[3] = c01 * id;
+        L[4] = (A[0] * A[8] - A[2] * A[6]) * id;
+        L[5] = (A[2] * A[3] - A[0] * A[5]) * id;
+        L[6] = c02 * id;
+        L[7] = (A[1] * A[6] - A[0] * A[7]) * id;
+        L[8] = (A[0] * A[4] - A[1] * A[3]) * id;
+    }
+}
+
 /* The loop of Algorithm 2: predict, correct the pressure, until the
  * largest predicted compression is at most eta (after minIterations, at
  * most maxIterations). */
 static void pressure_solve(pcs_solver *s, pcs_stats *st)
 {
+    if (s->prm.source != PCS_SOURCE_DENSITY) {
+        if (s->prm.grad_correction) gradient_correction(s);
+        if (s->prm.warm_start) warm_start(s);
+    }
     pcs_guard g = {s->prm.max_iter > s->prm.min_iter && pcs_fluid_total(s) > 0, HUGE_VAL};
     double emax;
     int k = 0;

@@ -49,7 +49,26 @@ typedef struct pcs_params {
     dom_periodic periodic;         /* periodic axes and their period (axes 0: none) */
     int one_rank; /* 1: a solver of one rank's whole case even under -parallel (the relaxed
                    * packing, made alike on every rank before the split) */
+    /* pressureSource (constant/fluidProperties): what the pressure update of
+     * eq. (3) corrects.  PCS_SOURCE_DENSITY (the paper's): the predicted
+     * density error rho*_i - rho0.  PCS_SOURCE_DIVERGENCE: the predicted
+     * density change over the step, dt sum_j m_j (v*_i - v*_j) . grad W_ij
+     * at x(t) (DFSPH's divergence source, Bender & Koschier 2015), with the
+     * wall's boundary particles as in eq. (13); no memory of the packing,
+     * so the density drifts.  PCS_SOURCE_MIXED: (1 - source_mix) times the
+     * divergence source plus source_mix times the density error (a
+     * velocity-divergence source with a density-invariance correction, as
+     * in Hu & Adams 2007, Asai et al. 2012). */
+    int source;
+    double source_mix;   /* mixed: the density error's weight, in (0, 1) */
+    int warm_start;      /* divergence, mixed: each step starts from the last step's
+                          * pressures (DFSPH's warm start; 0: from zero, as PCISPH) */
+    int grad_correction; /* divergence, mixed: the density change with the kernel gradient
+                          * correction L_i of Bonet & Lok 1999 (exact for a linear
+                          * velocity field on any packing) */
 } pcs_params;
+
+enum { PCS_SOURCE_DENSITY = 0, PCS_SOURCE_DIVERGENCE = 1, PCS_SOURCE_MIXED = 2 };
 
 /* The compiled defaults (equal to the annotated files of etc/caseDicts;
  * rho0 and r0, which a case must give, are 0). */
@@ -167,6 +186,7 @@ struct pcs_solver {
     double *vol_block; /* its sums by blocks of SL_REDUCE_BLOCK (the last prediction) */
     size_t err_cap;
     double *ap_best; /* pressure force of the best iteration (3 x cap) */
+    double *lcorr;   /* pressureSource divergence: the kernel gradient correction (9 x cap) */
     pcs_timers time;
     eff_set *eff;        /* the case's effects (not owned; may be NULL) */
     eff_instance **dens; /* its EFF_DENSITY effects */

@@ -813,6 +813,7 @@ static void relax(run *r)
                 k->where.text, k->jitter, k->steps, r->ctl.dt, r->t);
     pcs_params prm = r->c.prm;
     prm.one_rank = 1;
+    prm.source = PCS_SOURCE_DENSITY; /* packed to rest density, whatever the run solves */
     sl_boundary walls;
     prt_boundary_copy(&walls, &r->c.boundary);
     pcs_solver s;
