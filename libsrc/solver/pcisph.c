@@ -733,6 +733,9 @@ void pcs_init_part(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary 
     }
     for (size_t i = 0; i < f->n; i++) f->rho[i] = p->rho0; /* until the first pass */
     split_init(&s->split, b->n, p->one_rank);
+    if (p->source != PCS_SOURCE_DENSITY && s->split.size > 1)
+        sl_fatal("pcs_init: pressureSource divergence and mixed are not yet parallel (the case "
+                 "reader refuses them under -parallel)");
     s->split.halo = pcx_usable(s);
     if (s->split.halo && pcd_usable(s)) { /* every rank keeps its own particles only */
         s->split.domain = 1;
