@@ -51,6 +51,7 @@
 #include "core/sl_source.h"
 #include "solver/pcisph.h"
 #include "solver/pcs_snapshot.h"
+#include "solver/pcs_sums.h"
 
 /* Whether s (ranks > 1) can run in domain mode. */
 int pcd_usable(const pcs_solver *s);
@@ -113,6 +114,12 @@ void pcd_keep_emitted(pcs_solver *s, size_t n0);
 void pcd_gather(pcs_solver *s);
 /* Only the particles near nboxes boxes (see pcs_gather_near). */
 void pcd_gather_near(pcs_solver *s, const double *boxes, size_t nboxes);
+/* The function objects' sums, counts and maxima over every fluid row
+ * (solver/pcs_sums.h; collective): no row travels but those appended since
+ * the sort (to rank 0, with their terms). */
+void pcd_sum_rows(const pcs_solver *s, size_t k, pcs_row_terms terms, const void *ctx, double *sum);
+void pcd_sum_longs(const pcs_solver *s, long *c, size_t n);
+void pcd_max_doubles(const pcs_solver *s, double *m, size_t n);
 /* The whole fluid's z extent at the last gather (rank 0; NULL before). */
 const double *pcd_mirror_zext(const pcs_solver *s);
 /* What rank 0 shows (NULL elsewhere, and before a gather). */
@@ -212,6 +219,11 @@ typedef struct pcd_counts {
      * the last one */
     long near_gathers;
     size_t near_cells;
+    /* the reductions of the function objects that read every particle
+     * (densityError, energy: pcd_sum_rows, pcd_sum_longs, pcd_max_doubles):
+     * calls, bytes received by this rank, seconds */
+    long fo_reductions;
+    double fo_bytes, fo_seconds;
 } pcd_counts;
 pcd_counts pcd_counters(const pcs_solver *s);
 
