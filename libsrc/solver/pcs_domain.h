@@ -40,10 +40,14 @@
  * computed again from the global counts per row (one reduction of a count
  * per row) and the particles move by the migration of the next step.
  *
- * Output and function objects: rank 0 gathers the state (pcs_gather) in
- * the serial order when something reads it (time directories, function
- * objects); each boundary particle from its owner, sorted again on rank 0
- * by (cell, creation index), the serial order.
+ * Output and function objects: time directories and restart files are
+ * streamed to rank 0 in the serial order (pcd_output_begin); probes and
+ * gauges get on rank 0 the particles near their points (pcd_gather_near;
+ * pcd_gather, the whole state, for an object reading every particle
+ * otherwise: none does), each boundary particle from its owner, sorted
+ * again on rank 0 by (cell, creation index), the serial order;
+ * densityError and energy reduce each rank's own rows (pcd_sum_rows,
+ * pcd_sum_longs, pcd_max_doubles: solver/pcs_sums.h).
  */
 #ifndef SL_PCS_DOMAIN_H
 #define SL_PCS_DOMAIN_H
