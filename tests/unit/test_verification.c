@@ -249,6 +249,28 @@ static void test_standing_wave_decay(void **state)
     assert_true(e1 / e2 >= 1.5);
 }
 
+/* The standing wave's period is 3.5-4 % short at h = 2 r0 whatever the
+ * resolution; the kernel's support is the cause (doc/verification.md): at
+ * r0 0.005 m, dt 0.001 s the period error measured 0.0355 at kernelSupport
+ * 2 and 0.0053 at 2.2 (0.0038 at 2.4).  Asserted: above 0.025 at 2, below
+ * 0.012 at 2.2 (the zero crossings' round-off spread is about +-0.005).
+ * Two threads (the same result as one). */
+static void test_standing_wave_period_kernel_support(void **state)
+{
+    (void)state;
+    char edit[512], wide[768];
+    snprintf(edit, sizeof edit,
+             "%s/editDictionary system/controlDict -entry numberOfThreads -set 2", bin_dir());
+    snprintf(wide, sizeof wide,
+             "%s && %s/editDictionary constant/fluidProperties -entry kernelSupport -set 2.2", edit,
+             bin_dir());
+    double e20 = level("standingWave", "standingWave_h2.0_0.005", 0.005, 0.001, edit);
+    double e22 = level("standingWave", "standingWave_h2.2_0.005", 0.005, 0.001, wide);
+    print_message("period error %.4g at h = 2 r0, %.4g at 2.2 r0\n", e20, e22);
+    assert_true(e20 > 0.025);
+    assert_true(e22 < 0.012);
+}
+
 /* The Taylor-Green velocity field as set up (velocityField) and its first
  * 12.5 ms of viscous decay (measured 0.0073 of U at r0 0.01 m); later the
  * method fails, see doc/verification.md. */
@@ -618,6 +640,7 @@ int main(void)
         cmocka_unit_test(test_relaxed_to_tolerance),
         cmocka_unit_test(test_standing_wave_period),
         cmocka_unit_test(test_standing_wave_decay),
+        cmocka_unit_test(test_standing_wave_period_kernel_support),
         cmocka_unit_test(test_taylor_green_start),
         cmocka_unit_test(test_taylor_green_lattice_strain),
         cmocka_unit_test(test_taylor_green_reverses_at_a_strain),
