@@ -83,14 +83,25 @@ void fo_execute(fo_list *l, const pcs_view *s, double time, long step, int write
  * rank 0 only then. */
 int fo_wants_state(const fo_list *l, double time, long step, int write_time);
 
-/* What that call would read: FO_READS_NOTHING, FO_READS_NEAR (only point
- * queries at points inside the *nboxes boxes *boxes, 6 doubles each: lo
- * x y z, hi x y z, infinite bounds allowed; the list's memory, valid
- * until the next call) or FO_READS_ALL.  -parallel's domain mode gathers
- * on rank 0 only the particles near the boxes, or the whole state. */
+/* What that call would read of rank 0's copy of the state:
+ * FO_READS_NOTHING, FO_READS_NEAR (only point queries at points inside the
+ * *nboxes boxes *boxes, 6 doubles each: lo x y z, hi x y z, infinite
+ * bounds allowed; the list's memory, valid until the next call) or
+ * FO_READS_ALL.  -parallel's domain mode gathers on rank 0 only the
+ * particles near the boxes, or the whole state.  The objects that read
+ * every particle through the view's sums (densityError, energy: fo_serve)
+ * need nothing gathered and count as reading nothing here. */
 enum { FO_READS_NOTHING, FO_READS_NEAR, FO_READS_ALL };
 int fo_wants_region(fo_list *l, double time, long step, int write_time, const double **boxes,
                     size_t *nboxes);
+
+/* -parallel's domain mode, every rank but 0: this list writes no file and
+ * runs only the objects that read every particle through the view's sums
+ * (densityError, energy), whose collective calls rank 0's list makes in
+ * the same order (each rank sums its own rows, solver/pcs_sums.h); the
+ * others (probes, waterGauges) read rank 0's gathered copy and run there
+ * only.  Call before the first fo_execute or fo_start.  NULL-safe. */
+void fo_serve(fo_list *l);
 
 /* Open the files of a run starting at `time` without executing anything:
  * for a restart, whose first state was recorded by the previous run (and

@@ -3,14 +3,18 @@
  *     kinetic   = sum_i m v_i^2 / 2
  *     potential = -sum_i m g . (x_i - x_ref)      (m |g| z for g = (0 0 -g))
  * with x_ref = referencePoint, the origin by default, and m the fluid
- * particle mass rho0 r0^3.  Sums run over particles in index order (the
- * same for any thread count).
+ * particle mass rho0 r0^3.  The sums run over the particles in the
+ * solver's order in blocks of 4096 rows, each block row by row, the block
+ * sums in order (solver/pcs_sums.h): the same bits for any ranks x threads,
+ * and -parallel's domain mode sums each rank's own rows without gathering
+ * them.
  *
  *   type energy; referencePoint (0 0 0);  // optional
  */
 #include "functionObjects/fo_type.h"
 
 #include "core/sl_mem.h"
+#include "solver/pcs_sums.h"
 
 #include <stdlib.h>
 
@@ -45,19 +49,24 @@ static void en_columns(const void *vs, FILE *f)
     fputs("\tkinetic\tpotential\ttotal", f);
 }
 
+/* A row's v^2 and g . (x - x_ref); ctx: g and x_ref, 6 doubles. */
+static void en_terms(const void *ctx, const sl_fluid *f, size_t i, double *t)
+{
+    const double *g = ctx, *ref = g + 3;
+    t[0] = f->vx[i] * f->vx[i] + f->vy[i] * f->vy[i] + f->vz[i] * f->vz[i];
+    t[1] = g[0] * (f->x[i] - ref[0]) + g[1] * (f->y[i] - ref[1]) + g[2] * (f->z[i] - ref[2]);
+}
+
 static void en_execute(void *vs, const fo_call *call)
 {
     const en_state *st = vs;
     const pcs_view *s = call->s;
-    const sl_fluid *f = s->f;
-    const double *g = s->gravity;
-    double v2 = 0.0, gx = 0.0;
-    for (size_t i = 0; i < f->n; i++) {
-        v2 += f->vx[i] * f->vx[i] + f->vy[i] * f->vy[i] + f->vz[i] * f->vz[i];
-        gx += g[0] * (f->x[i] - st->ref[0]) + g[1] * (f->y[i] - st->ref[1]) +
-            g[2] * (f->z[i] - st->ref[2]);
-    }
-    double kin = 0.5 * s->mass * v2, pot = -s->mass * gx;
+    const double ctx[6] = {s->gravity[0], s->gravity[1], s->gravity[2],
+                           st->ref[0],    st->ref[1],    st->ref[2]};
+    double sum[2];
+    pcs_view_sum_rows(s, 2, en_terms, ctx, sum); /* collective; on rank 0 */
+    if (!call->dat) return;
+    double kin = 0.5 * s->mass * sum[0], pot = -s->mass * sum[1];
     fo_put(call->dat, kin);
     fo_put(call->dat, pot);
     fo_put(call->dat, kin + pot);
@@ -75,4 +84,5 @@ const fo_type fo_type_energy = {
     .execute = en_execute,
     .at_write = NULL,
     .free = en_free,
+    .collective = 1,
 };

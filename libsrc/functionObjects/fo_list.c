@@ -46,7 +46,8 @@ struct fo_list {
     size_t n, cap;
     char *case_dir;
     int precision;
-    int post; /* post-processing: every call executes, every call is a write time */
+    int post;  /* post-processing: every call executes, every call is a write time */
+    int serve; /* fo_serve: no files; the collective objects only */
     char tname[64];
     fo_index ix;
     int started;      /* files open (first call or fo_start) */
@@ -289,6 +290,10 @@ static void roll_back_rows(fo_object *o, double time)
 
 static void write_row(fo_object *o, const fo_call *call)
 {
+    if (!call->dat) { /* computed (collective), not written */
+        o->type->execute(o->state, call);
+        return;
+    }
     size_t k = o->nrows++ % FO_RING;
     o->row_time[k] = call->time;
     o->row_at[k] = ftello(o->dat);
@@ -300,10 +305,15 @@ static void write_row(fo_object *o, const fo_call *call)
 static void open_all(fo_list *l, const pcs_view *s, double time)
 {
     tdir_name(time, l->precision, l->tname, sizeof l->tname);
-    for (size_t i = 0; i < l->n; i++)
+    for (size_t i = 0; i < l->n && !l->serve; i++)
         if (!l->obj[i].dat) open_object(l, &l->obj[i], s);
     l->started = 1;
     l->last_time = time;
+}
+
+void fo_serve(fo_list *l)
+{
+    if (l) l->serve = 1;
 }
 
 void fo_start(fo_list *l, const pcs_view *s, double time)
@@ -318,7 +328,7 @@ void fo_execute(fo_list *l, const pcs_view *s, double time, long step, int write
         open_all(l, s, time);
     } else if (time <= l->last_time) {
         for (size_t i = 0; i < l->n; i++)
-            if (!l->obj[i].failed) roll_back_rows(&l->obj[i], time);
+            if (!l->obj[i].failed && l->obj[i].dat) roll_back_rows(&l->obj[i], time);
         l->last_time = time;
         return;
     }
@@ -328,17 +338,19 @@ void fo_execute(fo_list *l, const pcs_view *s, double time, long step, int write
     int ix_ready = 0;
     for (size_t i = 0; i < l->n; i++) {
         fo_object *o = &l->obj[i];
-        if (o->failed) continue;
+        /* a collective object runs on every rank alike, its file failed or not */
+        if (o->type->collective ? 0 : o->failed || l->serve) continue;
         int row = due(l, o, step, write_time);
         if ((row || (write_time && o->type->at_write)) && (o->type->needs & FO_NEED_GRID) &&
             !ix_ready) {
             fo_index_update(&l->ix, s);
             ix_ready = 1;
         }
-        fo_call call = {s, &l->ix, time, l->tname, write_time, o->dat, o->dir};
+        FILE *dat = o->failed ? NULL : o->dat; /* NULL when serving */
+        fo_call call = {s, &l->ix, time, l->tname, write_time, dat, o->dir};
         if (row) write_row(o, &call);
         if (write_time && o->type->at_write) o->type->at_write(o->state, &call);
-        if (fflush(o->dat) != 0 || ferror(o->dat)) {
+        if (dat && (fflush(o->dat) != 0 || ferror(o->dat))) {
             sl_warning("function object '%s': cannot write '%s': %s; it writes no more", o->name,
                        o->path, strerror(errno));
             o->failed = 1;
@@ -366,7 +378,7 @@ int fo_wants_region(fo_list *l, double time, long step, int write_time, const do
     int any = 0;
     for (size_t i = 0; i < l->n; i++) {
         const fo_object *o = &l->obj[i];
-        if (!(all ? !o->failed : wants(o, step, write_time))) continue;
+        if (o->type->collective || !(all ? !o->failed : wants(o, step, write_time))) continue;
         if (!o->type->region) return FO_READS_ALL;
         any = 1;
         const size_t need = o->type->region(o->state, NULL, 0);

@@ -26,7 +26,7 @@ typedef struct fo_call {
     double time;
     const char *time_name; /* time-folder name of `time` */
     int write_time;
-    FILE *dat;       /* <type>.dat, positioned for this row's values */
+    FILE *dat;       /* <type>.dat, positioned for this row's values; NULL: write nothing */
     const char *dir; /* postProcessing/<name>/<startTime> */
 } fo_call;
 
@@ -47,6 +47,12 @@ typedef struct fo_type {
      * bounds allowed), at most max of them written; returns how many it
      * needs.  Without it the object reads the whole state. */
     size_t (*region)(const void *st, double *box, size_t max);
+    /* Set: the object reads every fluid particle through the view's sums
+     * only (solver/pcs_sums.h), so in -parallel's domain mode execute()
+     * and at_write() run on every rank (fo_serve), making the same
+     * collective calls, and write only where call->dat is set (rank 0, and
+     * only while its file is good); nothing is gathered for it. */
+    int collective;
 } fo_type;
 
 extern const fo_type fo_type_density_error;
@@ -64,7 +70,7 @@ void fo_get_points(const dict *d, const char *key, int dim, double **out, size_t
 
 /* ---- writing ---- */
 
-/* "\t%.10g", or "\tnan" for any NaN. */
+/* "\t%.10g", or "\tnan" for any NaN; nothing when f is NULL. */
 void fo_put(FILE *f, double v);
 
 #endif

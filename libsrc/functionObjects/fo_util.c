@@ -112,6 +112,7 @@ void fo_get_points(const dict *d, const char *key, int dim, double **out, size_t
 
 void fo_put(FILE *f, double v)
 {
+    if (!f) return;
     if (isnan(v)) fputs("\tnan", f);
     else fprintf(f, "\t%.10g", v);
 }

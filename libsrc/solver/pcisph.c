@@ -1217,7 +1217,9 @@ pcs_view pcs_view_of(const pcs_solver *s)
                       .gravity = s->prm.gravity,
                       .periodic = s->prm.periodic.axes ? &s->prm.periodic : NULL,
                       .boundary_images = s->halo.nb_img > 0,
-                      .fluid_z = mf ? pcd_mirror_zext(s) : NULL};
+                      .fluid_z = mf ? pcd_mirror_zext(s) : NULL,
+                      .own = s->f,
+                      .dom = s->split.domain ? s : NULL};
 }
 
 void pcs_compute_density(pcs_solver *s)

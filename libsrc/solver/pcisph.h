@@ -215,6 +215,12 @@ typedef struct pcs_view {
      * near the points queried (-parallel's domain mode, pcs_gather_near);
      * NULL: f is the whole fluid */
     const double *fluid_z;
+    /* the fluid rows that sums and statistics over every particle read
+     * (solver/pcs_sums.h; NULL: f): -parallel's domain mode, this rank's
+     * own rows, and dom the solver whose ranks those functions combine
+     * (collective); NULL: the view holds every particle */
+    const sl_fluid *own;
+    const struct pcs_solver *dom;
 } pcs_view;
 
 /* The view of s's state. */

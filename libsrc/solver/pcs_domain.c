@@ -13,6 +13,7 @@
 #include "core/sl_reduce.h"
 #include "effects/effects.h"
 #include "parallel/par.h"
+#include "solver/pcs_sums.h"
 
 /* What travels with a particle that migrates or joins a halo: x, v, rho,
  * p (the state a step carries, particles.h) and the id. */
@@ -101,6 +102,12 @@ struct pcs_domain {
     unsigned char *nearmark; /* by cell rank */
     uint32_t *cell_lin;      /* cell rank -> linear cell */
     double zext[2];
+    /* the function objects' sums over every row (pcd_sum_rows): block
+     * sums, rank 0's of every block, the rows appended since the sort */
+    double *fs_part, *fs_all, *fs_tail, *fs_tall;
+    size_t fs_part_cap, fs_all_cap, fs_tail_cap, fs_tall_cap;
+    uint64_t *fs_order;
+    size_t fs_order_cap;
 };
 
 static void out_free(struct pcd_out *o);
@@ -744,6 +751,8 @@ static void domain_free(struct pcs_domain *d)
     out_free(d->out);
     sl_free_aligned(d->nearbox);
     free(d->nearmark), free(d->cell_lin);
+    sl_free_aligned(d->fs_part), sl_free_aligned(d->fs_all), sl_free_aligned(d->fs_tail);
+    sl_free_aligned(d->fs_tall), sl_free_aligned(d->fs_order);
     free(d);
 }
 
@@ -1558,6 +1567,139 @@ void pcd_gather_near(pcs_solver *s, const double *boxes, size_t nboxes)
     d->fresh = 0; /* not the whole state */
     d->c.near_gathers++;
     d->c.near_cells = marked;
+}
+
+/* ---- the function objects' sums over every row, without the rows ---- */
+
+#define TAG_SUM 23
+
+/* The running sums of a block continued across a rank boundary (k doubles). */
+static void sum_send(const double *run, size_t k, const struct pcs_domain *d, int p, size_t g)
+{
+    par_send_bytes(run, k * sizeof *run, owner_of_row(d, p, g), TAG_SUM);
+}
+
+/* The bytes received and seconds spent, counted for the End summary. */
+static void fo_counted(const pcs_solver *s, double t0, double b0)
+{
+    struct pcs_domain *d = s->split.dd;
+    d->c.fo_reductions++;
+    d->c.fo_bytes += par_counters().bytes - b0;
+    d->c.fo_seconds += omp_get_wtime() - t0;
+}
+
+void pcd_sum_rows(const pcs_solver *s, size_t k, pcs_row_terms terms, const void *ctx, double *sum)
+{
+    struct pcs_domain *d = s->split.dd;
+    const double t0 = omp_get_wtime(), b0 = par_counters().bytes;
+    const int p = s->split.size, me = s->split.rank;
+    const sl_fluid *f = s->f;
+    const size_t B = SL_REDUCE_BLOCK, ns = d->goff[p], N = s->split.nglobal;
+    const size_t G0 = d->goff[me], G1 = d->goff[me + 1];
+    const size_t nbs = (ns + B - 1) / B, nball = (N + B - 1) / B;
+    const size_t mine = d->nsorted < f->n ? d->nsorted : f->n;
+    if (d->lo != 0 || mine != G1 - G0 || N < ns)
+        sl_fatal("pcs_domain: sums over %zu own rows of [%zu, %zu) (internal error)", mine, G0, G1);
+    double *part = d->fs_part =
+        grow(d->fs_part, &d->fs_part_cap, k * nbs + 1, sizeof *d->fs_part, "block sums");
+    if (G1 > G0) {
+        const size_t bfirst = G0 / B, blast = (G1 - 1) / B;
+        const int cont = G0 % B != 0;            /* the first block began on lower ranks */
+        const int hand = G1 < ns && G1 % B != 0; /* the last goes on past this rank's rows */
+#pragma omp parallel for schedule(dynamic, 1)
+        for (size_t blk = bfirst + (size_t)cont; blk <= blast; blk++) {
+            double run[PCS_SUM_TERMS] = {0.0, 0.0, 0.0, 0.0};
+            const size_t lo = blk * B > G0 ? blk * B : G0;
+            const size_t hi = (blk + 1) * B < G1 ? (blk + 1) * B : G1;
+            pcs_sums_rows(f, lo - G0, hi - G0, k, terms, ctx, run);
+            for (size_t q = 0; q < k; q++) part[blk * k + q] = run[q];
+        }
+        if (hand && !(cont && blast == bfirst)) sum_send(part + blast * k, k, d, p, G1);
+        if (cont) {
+            double run[PCS_SUM_TERMS];
+            par_recv_bytes(run, k * sizeof *run, owner_of_row(d, p, G0 - 1), TAG_SUM);
+            const size_t e = (bfirst + 1) * B < G1 ? (bfirst + 1) * B : G1;
+            pcs_sums_rows(f, 0, e - G0, k, terms, ctx, run);
+            for (size_t q = 0; q < k; q++) part[bfirst * k + q] = run[q];
+            if (hand && blast == bfirst) sum_send(run, k, d, p, G1);
+        }
+    }
+    /* each block's sum on rank 0, from the rank holding its last row */
+    size_t *off = d->boff;
+    for (int r = 0; r <= p; r++) off[r] = d->goff[r] >= ns ? nbs : d->goff[r] / B;
+    for (int r = 0; r < p; r++) {
+        d->pcnt[r] = as_int(k * (off[r + 1] - off[r]));
+        d->pdis[r] = as_int(k * off[r]);
+    }
+    double *all = NULL;
+    if (!me)
+        all = d->fs_all =
+            grow(d->fs_all, &d->fs_all_cap, k * nball + 1, sizeof *d->fs_all, "block sums");
+    par_gatherv_root(part + k * off[me], d->pcnt[me], all, d->pcnt, d->pdis);
+    /* the rows appended since the sort (emitted), with their terms, to rank
+     * 0: the serial array's rows [ns, N), by id */
+    const size_t nt_mine = f->n - mine, rec = k + 1;
+    par_allgather_long((long)nt_mine, d->all_n);
+    size_t nt = 0;
+    for (int r = 0; r < p; r++) {
+        d->pcnt[r] = as_int(rec * (size_t)d->all_n[r]);
+        d->pdis[r] = as_int(rec * nt);
+        nt += (size_t)d->all_n[r];
+    }
+    if (nt != N - ns)
+        sl_fatal("pcs_domain: %zu rows appended since the sort, %zu expected (internal error)", nt,
+                 N - ns);
+    if (nt) {
+        double *t = d->fs_tail = grow(d->fs_tail, &d->fs_tail_cap, rec * nt_mine + 1,
+                                      sizeof *d->fs_tail, "appended rows");
+        for (size_t i = mine; i < f->n; i++) {
+            terms(ctx, f, i, t + rec * (i - mine));
+            t[rec * (i - mine) + k] = (double)f->id[i];
+        }
+        double *ta = NULL;
+        if (!me)
+            ta = d->fs_tall = grow(d->fs_tall, &d->fs_tall_cap, rec * nt + 1, sizeof *d->fs_tall,
+                                   "appended rows");
+        par_gatherv_root(t, d->pcnt[me], ta, d->pcnt, d->pdis);
+        if (!me) {
+            uint64_t *ord = d->fs_order =
+                grow(d->fs_order, &d->fs_order_cap, nt + 1, sizeof *d->fs_order, "appended rows");
+            for (size_t q = 0; q < nt; q++)
+                ord[q] = (uint64_t)(uint32_t)ta[rec * q + k] << 32 | (uint64_t)q;
+            qsort(ord, nt, sizeof *ord, cmp_u64);
+            double run[PCS_SUM_TERMS] = {0.0, 0.0, 0.0, 0.0};
+            for (size_t q = 0; q < nt; q++) {
+                const size_t g = ns + q, blk = g / B;
+                const double *tv = ta + rec * (ord[q] & 0xffffffffu);
+                if (g % B == 0)
+                    for (size_t c = 0; c < k; c++) run[c] = 0.0;
+                else if (q == 0) /* the last sorted block goes on */
+                    for (size_t c = 0; c < k; c++) run[c] = all[blk * k + c];
+                for (size_t c = 0; c < k; c++) {
+                    run[c] += tv[c];
+                    __asm__("" : "+m"(run[c])); /* one row at a time, as pcs_sums_rows */
+                }
+                if (g % B == B - 1 || g == N - 1)
+                    for (size_t c = 0; c < k; c++) all[blk * k + c] = run[c];
+            }
+        }
+    }
+    if (!me) pcs_sums_blocks(all, nball, k, sum);
+    fo_counted(s, t0, b0);
+}
+
+void pcd_sum_longs(const pcs_solver *s, long *c, size_t n)
+{
+    const double t0 = omp_get_wtime(), b0 = par_counters().bytes;
+    par_sum_longs(c, n);
+    fo_counted(s, t0, b0);
+}
+
+void pcd_max_doubles(const pcs_solver *s, double *m, size_t n)
+{
+    const double t0 = omp_get_wtime(), b0 = par_counters().bytes;
+    for (size_t i = 0; i < n; i++) m[i] = par_max_double(m[i]);
+    fo_counted(s, t0, b0);
 }
 
 const double *pcd_mirror_zext(const pcs_solver *s)

@@ -40,10 +40,14 @@
  * computed again from the global counts per row (one reduction of a count
  * per row) and the particles move by the migration of the next step.
  *
- * Output and function objects: rank 0 gathers the state (pcs_gather) in
- * the serial order when something reads it (time directories, function
- * objects); each boundary particle from its owner, sorted again on rank 0
- * by (cell, creation index), the serial order.
+ * Output and function objects: time directories and restart files are
+ * streamed to rank 0 in the serial order (pcd_output_begin); probes and
+ * gauges get on rank 0 the particles near their points (pcd_gather_near;
+ * pcd_gather, the whole state, for an object reading every particle
+ * otherwise: none does), each boundary particle from its owner, sorted
+ * again on rank 0 by (cell, creation index), the serial order;
+ * densityError and energy reduce each rank's own rows (pcd_sum_rows,
+ * pcd_sum_longs, pcd_max_doubles: solver/pcs_sums.h).
  */
 #ifndef SL_PCS_DOMAIN_H
 #define SL_PCS_DOMAIN_H
@@ -51,6 +55,7 @@
 #include "core/sl_source.h"
 #include "solver/pcisph.h"
 #include "solver/pcs_snapshot.h"
+#include "solver/pcs_sums.h"
 
 /* Whether s (ranks > 1) can run in domain mode. */
 int pcd_usable(const pcs_solver *s);
@@ -113,6 +118,12 @@ void pcd_keep_emitted(pcs_solver *s, size_t n0);
 void pcd_gather(pcs_solver *s);
 /* Only the particles near nboxes boxes (see pcs_gather_near). */
 void pcd_gather_near(pcs_solver *s, const double *boxes, size_t nboxes);
+/* The function objects' sums, counts and maxima over every fluid row
+ * (solver/pcs_sums.h; collective): no row travels but those appended since
+ * the sort (to rank 0, with their terms). */
+void pcd_sum_rows(const pcs_solver *s, size_t k, pcs_row_terms terms, const void *ctx, double *sum);
+void pcd_sum_longs(const pcs_solver *s, long *c, size_t n);
+void pcd_max_doubles(const pcs_solver *s, double *m, size_t n);
 /* The whole fluid's z extent at the last gather (rank 0; NULL before). */
 const double *pcd_mirror_zext(const pcs_solver *s);
 /* What rank 0 shows (NULL elsewhere, and before a gather). */
@@ -212,6 +223,11 @@ typedef struct pcd_counts {
      * the last one */
     long near_gathers;
     size_t near_cells;
+    /* the reductions of the function objects that read every particle
+     * (densityError, energy: pcd_sum_rows, pcd_sum_longs, pcd_max_doubles):
+     * calls, bytes received by this rank, seconds */
+    long fo_reductions;
+    double fo_bytes, fo_seconds;
 } pcd_counts;
 pcd_counts pcd_counters(const pcs_solver *s);
 

@@ -319,7 +319,9 @@ static void test_emitter(void **state)
         "0.05;/' system/controlDict && echo 'numberOfThreads 1;' >> "
         "system/controlDict && printf 'functions\\n{\\n probes { type probes; "
         "probeLocations ((0.1 0.1 0.02) (0.05 0.05 0.05) (0.1 0.1 0.3)); }\\n gauges { type "
-        "waterGauges; gaugeLocations ((0.1 0.1) (0.03 0.15)); }\\n}\\n' >> system/controlDict";
+        "waterGauges; gaugeLocations ((0.1 0.1) (0.03 0.15)); }\\n densityError { type "
+        "densityError; percentiles (50 90); histogram on; }\\n energy { type energy; }\\n}\\n' "
+        ">> system/controlDict";
     assert_int_equal(run_np("tutorials/filling", "parFillSerial", edit, 0), 0);
     assert_int_equal(run_np("tutorials/filling", "parFill3", edit, 3), 0);
     same_output("parFillSerial", "parFill3");
@@ -333,7 +335,8 @@ static void test_emitter(void **state)
                      0);
     /* probes and gauges (the same files, compared above) from the particles
      * near their points only, the jet's newest particles (emitted after the
-     * sort) among them */
+     * sort) among them; densityError and energy from each rank's own rows
+     * (the newest particles sent to rank 0 with their terms): no gather */
     assert_int_equal(system("grep -Eq 'function objects: 0 gathers of the whole state, [1-9][0-9]* "
                             "of the particles near' tests/output/parFill3/log.pcisph"),
                      0);
@@ -363,6 +366,45 @@ static void test_function_objects_near(void **state)
                  "grep -Eq 'function objects: 0 gathers of the whole state, [1-9][0-9]* of the "
                  "particles near' tests/output/%s/log.pcisph",
                  names[np - 2]);
+        assert_int_equal(system(cmd), 0);
+    }
+}
+
+/* densityError (percentiles, histograms over the data's range and a fixed
+ * one, every step and at write times) and energy (two reference points)
+ * alone on the dam break, 2 and 3 ranks (2 threads each on 2): every rank
+ * sums its own rows, blocks cut by a rank boundary continued from the
+ * lower rank's running sum, the percentiles selected by reductions of
+ * counts; the files are the serial ones, byte for byte, and the End
+ * summary counts no gather of the state on rank 0, only reductions. */
+static void test_function_objects_reduced(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    const char *fos =
+        "sed -i 's/^endTime .*/endTime 0.04;/; s/^writeInterval .*/writeInterval 0.02;/; "
+        "s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict && "
+        "printf 'functions\\n{\\n rhoErr { type densityError; percentiles (0 50 90 99 100); "
+        "histogram on; }\\n rhoErrW { type densityError; percentiles (25 75); histogram on; "
+        "histogramRange (-2 2); writeControl writeTime; }\\n energy { type energy; }\\n "
+        "energyRef { type energy; referencePoint (1 2 3); }\\n}\\n' >> system/controlDict";
+    char threads[1024];
+    snprintf(threads, sizeof threads,
+             "%s && sed -i 's/^numberOfThreads .*/numberOfThreads 2;/' system/controlDict", fos);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parReduceSerial", fos, 0), 0);
+    const char *names[] = {"parReduce2", "parReduce3", "parReduce2x2"};
+    for (int k = 0; k < 3; k++) {
+        assert_int_equal(
+            run_np("tests/cases/damBreakShort", names[k], k == 2 ? threads : fos, k == 1 ? 3 : 2),
+            0);
+        same_output("parReduceSerial", names[k]);
+        char cmd[512];
+        snprintf(cmd, sizeof cmd,
+                 "cd tests/output && ls parReduceSerial/postProcessing/rhoErr/0/histogram_*.dat "
+                 "parReduceSerial/postProcessing/rhoErrW/0/histogram_*.dat | wc -l | grep -qx 6 "
+                 "&& grep -Eq 'function objects: 0 gathers of the whole state, 0 of the particles "
+                 "near .* [1-9][0-9]* reductions over every particle' %s/log.pcisph",
+                 names[k]);
         assert_int_equal(system(cmd), 0);
     }
 }
@@ -555,6 +597,7 @@ int main(void)
         cmocka_unit_test(test_moving_boundary),
         cmocka_unit_test(test_emitter),
         cmocka_unit_test(test_function_objects_near),
+        cmocka_unit_test(test_function_objects_reduced),
         cmocka_unit_test(test_domain_migration_rebalance),
         cmocka_unit_test(test_restart_2_then_3),
         cmocka_unit_test(test_periodic),

@@ -276,8 +276,10 @@ static double cpu_seconds(void)
 }
 
 /* -parallel's domain mode (collective; nothing otherwise): on rank 0 what
- * the function objects due now read, of every rank's state: the particles
- * near their points when they make point queries only (probes, gauges),
+ * the function objects due now read of rank 0's copy of the state: the
+ * particles near their points when they make point queries only (probes,
+ * gauges), nothing for those that read every particle through the view's
+ * sums (densityError, energy: every rank sums its own rows, fo_serve),
  * else the whole state. */
 static void gather_for(run *r, fo_list *fo)
 {
@@ -720,11 +722,14 @@ static void summary_parallel(const run *r, double wall)
                 "write, %.2f s; rank 0's largest output buffer %zu particles (of %zu fluid, %zu "
                 "boundary), %.3g bytes held; function objects: %ld gathers of the whole state, "
                 "%ld of the particles near their points only (%zu cells at the last), %.3g bytes "
-                "received per step; peak resident memory rank 0 %.1f MB, the others %.1f-%.1f MB",
+                "received per step; %ld reductions over every particle (densityError, energy; "
+                "no gather), %.3g bytes received per step, %.2f s; peak resident memory rank 0 "
+                "%.1f MB, the others %.1f-%.1f MB",
                 dc.out_writes, dc.out_writes ? dc.out_bytes / (double)dc.out_writes : 0.0,
                 dc.out_seconds, dc.out_window, pcs_fluid_total(&r->s), pcs_boundary_total(&r->s),
                 dc.out_held, dc.gathers, dc.near_gathers, dc.near_cells, dc.gather_bytes / steps,
-                1e-6 * dc.peak_root, 1e-6 * dc.peak_others_min, 1e-6 * dc.peak_others_max);
+                dc.fo_reductions, dc.fo_bytes / steps, dc.fo_seconds, 1e-6 * dc.peak_root,
+                1e-6 * dc.peak_others_min, 1e-6 * dc.peak_others_max);
     }
     if (sp->size == 1) sl_info("  parallel: one rank, nothing exchanged");
     else if (sp->domain)
@@ -964,7 +969,9 @@ int main(int argc, char **argv)
     const int fo_on = fo != NULL; /* the same on every rank: they gather for rank 0 */
     if (fo_on) gather_for(&r, fo);
     const pcs_view view = pcs_view_of(&r.s); /* what the function objects read */
-    if (!r.root) {                           /* the function objects' files are rank 0's */
+    if (!r.root && r.s.split.domain)         /* the files are rank 0's; the sums are every rank's */
+        fo_serve(fo);
+    else if (!r.root) { /* the other modes: every rank holds every particle; rank 0 writes */
         fo_free(fo);
         fo = NULL;
     }
