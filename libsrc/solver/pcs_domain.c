@@ -1840,7 +1840,16 @@ typedef struct pcd_stream {
     int set, ncomp, col[3];
     size_t tsz; /* bytes per tuple */
     sl_source src;
+    int read; /* its first window was filled in this write */
+    int dup;  /* streams of the same set and columns made before it in this write */
 } pcd_stream;
+
+/* What a stream is (set, columns and which of those alike: the restart
+ * file's ids and fluid.vtu's are both the fluid's id column), to recognise
+ * it in the next write. */
+typedef struct out_key {
+    int set, ncomp, col[3], dup;
+} out_key;
 
 /* A particle emitted since the last sort: serial appends them by id. */
 typedef struct out_tail {
@@ -1872,6 +1881,18 @@ struct pcd_out {
     unsigned char *win;
     const pcd_stream *wcur;
     size_t w0, wn, window;
+    /* the next window, asked for while the writer compresses this one:
+     * its tuples [p0, p0 + pn) of stream pcur arrive in win2 */
+    int prefetch, pending, npost;
+    unsigned char *win2;
+    const pcd_stream *pcur;
+    size_t p0, pn;
+    long prefetched, discarded;
+    int seq_off, cross_off; /* this write's reads: not sequential; not in the last order */
+    /* the order the writer read the streams in: this write's (seq), the
+     * last write's (order: after its stream k it read stream k + 1) */
+    out_key seq[OUT_MAX_STREAMS], order[OUT_MAX_STREAMS];
+    int nseq, norder;
     double bytes0, t0;
 };
 
@@ -1880,6 +1901,7 @@ static void out_free(struct pcd_out *o)
     if (!o) return;
     for (int k = 0; k < 3; k++) free(o->off[k]);
     free(o->tail), sl_free_aligned(o->tbuf), free(o->bperm), free(o->bkey), free(o->win);
+    free(o->win2);
     free(o);
 }
 
@@ -2018,26 +2040,33 @@ static void out_pack(const pcs_solver *s, const struct pcd_out *o, int set, int 
 }
 
 /* Tuples [first, first + count) of rank r's part, into out: packed here,
- * or asked of rank r (one request, one reply). */
+ * or asked of rank r (one request, one reply; the reply received now, or,
+ * `later`, posted and completed by par_irecv_wait). */
 static void out_get(pcs_solver *s, struct pcd_out *o, const pcd_stream *st, int r, size_t first,
-                    size_t count, unsigned char *out)
+                    size_t count, unsigned char *out, int later)
 {
     if (!count) return;
     if (r == s->split.rank) {
         out_pack(s, o, st->set, st->ncomp, st->col, first, count, out);
         return;
     }
-    const int64_t ask[7] = {1,          st->set,    st->ncomp,     st->col[0],
-                            st->col[1], st->col[2], (int64_t)first};
-    const int64_t ask2[8] = {ask[0], ask[1], ask[2], ask[3],
-                             ask[4], ask[5], ask[6], (int64_t)count};
-    par_send_bytes(ask2, sizeof ask2, r, TAG_ASK);
-    par_recv_bytes(out, count * st->tsz, r, TAG_PART);
+    const int64_t ask[8] = {1,          st->set,    st->ncomp,     st->col[0],
+                            st->col[1], st->col[2], (int64_t)first, (int64_t)count};
+    par_send_bytes(ask, sizeof ask, r, TAG_ASK);
+    if (!later) {
+        par_recv_bytes(out, count * st->tsz, r, TAG_PART);
+        return;
+    }
+    if (o->npost == PAR_MAX_IRECV) par_irecv_wait(), o->npost = 0;
+    par_irecv_bytes(out, count * st->tsz, r, TAG_PART);
+    o->npost++;
 }
 
-/* The window: the stream's tuples [t, t + OUT_WINDOW) in the serial order
- * (rank by rank; then the particles emitted since the last sort, by id). */
-static void out_fill(pcs_solver *s, struct pcd_out *o, const pcd_stream *st, size_t t)
+/* A window: the stream's tuples [t, t + window) in the serial order (rank
+ * by rank; then the particles emitted since the last sort, by id), into
+ * buf; `later`: the replies posted, not waited for.  Returns the count. */
+static size_t out_fill_into(pcs_solver *s, struct pcd_out *o, const pcd_stream *st, size_t t,
+                            unsigned char *buf, int later)
 {
     const int p = s->split.size;
     const size_t *off = o->off[st->set], nsorted = off[p];
@@ -2047,30 +2076,102 @@ static void out_fill(pcs_solver *s, struct pcd_out *o, const pcd_stream *st, siz
     while (g < end && g < nsorted) {
         while (off[r + 1] <= g) r++;
         const size_t c = (off[r + 1] < end ? off[r + 1] : end) - g;
-        out_get(s, o, st, r, g - off[r], c, o->win + (g - t) * st->tsz);
+        out_get(s, o, st, r, g - off[r], c, buf + (g - t) * st->tsz, later);
         g += c;
     }
     while (g < end) { /* the tail: runs of one rank's consecutive particles */
         const out_tail *e = &o->tail[g - nsorted];
         size_t c = 1;
         while (g + c < end && e[c].rank == e->rank && e[c].local == e->local + c) c++;
-        out_get(s, o, st, (int)e->rank, (size_t)e->local, c, o->win + (g - t) * st->tsz);
+        out_get(s, o, st, (int)e->rank, (size_t)e->local, c, buf + (g - t) * st->tsz, later);
         g += c;
     }
-    o->wcur = st;
-    o->w0 = t;
-    o->wn = end - t;
+    return end - t;
+}
+
+static out_key key_of(const pcd_stream *st)
+{
+    return (out_key){st->set, st->ncomp, {st->col[0], st->col[1], st->col[2]}, st->dup};
+}
+
+static int same_key(out_key a, out_key b)
+{
+    return a.set == b.set && a.ncomp == b.ncomp && a.col[0] == b.col[0] && a.col[1] == b.col[1] &&
+        a.col[2] == b.col[2] && a.dup == b.dup;
+}
+
+/* The stream the writer will read after st, judged by the last write's
+ * order (the writers read their arrays in a fixed order): one of this
+ * write's streams not read yet, or NULL. */
+static const pcd_stream *out_next_stream(const struct pcd_out *o, const pcd_stream *st)
+{
+    const out_key k = key_of(st);
+    for (int i = 0; i + 1 < o->norder; i++)
+        if (same_key(o->order[i], k)) {
+            for (int j = 0; j < o->nst; j++)
+                if (!o->st[j].read && same_key(key_of(&o->st[j]), o->order[i + 1]))
+                    return &o->st[j];
+            return NULL;
+        }
+    return NULL;
+}
+
+/* The window holding tuple t of stream st: the prefetched one when it is
+ * (then the next is asked for at once, so that the ranks pack and send it
+ * while the writer compresses this one: the stream's next window, or
+ * after its last the first of the stream the last write read next), else
+ * filled now.  A prefetched window the writer does not read next is
+ * completed and dropped, and the write prefetches no more. */
+static void out_fill(pcs_solver *s, struct pcd_out *o, pcd_stream *st, size_t t)
+{
+    if (!st->read) {
+        st->read = 1;
+        if (o->nseq < OUT_MAX_STREAMS) o->seq[o->nseq++] = key_of(st);
+    }
+    if (o->pending && o->pcur == st && t >= o->p0 && t < o->p0 + o->pn) {
+        par_irecv_wait();
+        o->npost = o->pending = 0;
+        unsigned char *w = o->win;
+        o->win = o->win2, o->win2 = w;
+        o->wcur = st, o->w0 = o->p0, o->wn = o->pn;
+    } else {
+        if (o->pending) {
+            par_irecv_wait();
+            /* the writer read another stream than the last write did next, or
+             * not the next window of the stream it was reading */
+            if (o->pcur != st && !o->p0) o->cross_off = 1;
+            else o->seq_off = 1;
+            o->npost = o->pending = 0;
+            o->discarded++;
+        }
+        o->wn = out_fill_into(s, o, st, t, o->win, 0);
+        o->wcur = st, o->w0 = t;
+    }
+    if (!o->prefetch || !o->wn) return;
+    const pcd_stream *nst = st;
+    size_t next = o->w0 + o->wn;
+    if (next < o->total[st->set] && o->seq_off) return;
+    if (next >= o->total[st->set]) {
+        if (o->cross_off) return;
+        nst = out_next_stream(o, st);
+        next = 0;
+        if (!nst || !o->total[nst->set]) return;
+    }
+    o->pn = out_fill_into(s, o, nst, next, o->win2, 1);
+    o->pcur = nst, o->p0 = next, o->pending = 1;
+    o->prefetched++;
 }
 
 static void out_read(void *ctx, size_t off, size_t len, void *dst)
 {
-    const pcd_stream *st = ctx;
+    pcd_stream *st = ctx;
     pcs_solver *s = st->s;
     struct pcd_out *o = s->split.dd->out;
     unsigned char *out = dst;
     while (len > 0) {
         const size_t t = off / st->tsz;
         if (o->wcur != st || t < o->w0 || t >= o->w0 + o->wn) out_fill(s, o, st, t);
+        else if (o->pending) par_irecv_test(); /* let the next window move */
         if (!o->wn) sl_fatal("pcs_domain: output read past the end (internal error)");
         const size_t wend = (o->w0 + o->wn) * st->tsz;
         const size_t take = len < wend - off ? len : wend - off;
@@ -2103,6 +2204,14 @@ int pcd_output_begin(pcs_solver *s, const pcs_snapshot *prev)
                      "array it writes, 1 to 67108864 (default %d)",
                      w, OUT_WINDOW);
         d->out->win = sl_malloc(d->out->window * 3 * sizeof(double), "output window");
+        const char *pf = getenv("SLUICE_PARALLEL_OUTPUT_PREFETCH");
+        d->out->prefetch = !(pf && *pf) || !strcmp(pf, "1");
+        if (pf && *pf && strcmp(pf, "0") && strcmp(pf, "1"))
+            sl_fatal("SLUICE_PARALLEL_OUTPUT_PREFETCH=%s: 1 (rank 0 asks for the next window "
+                     "of an array while it writes this one; the default) or 0",
+                     pf);
+        if (d->out->prefetch && !s->split.rank)
+            d->out->win2 = sl_malloc(d->out->window * 3 * sizeof(double), "output window");
     }
     struct pcd_out *o = d->out;
     o->bytes0 = par_counters().bytes;
@@ -2196,6 +2305,10 @@ int pcd_output_begin(pcs_solver *s, const pcs_snapshot *prev)
     o->nst = 0;
     o->wcur = NULL;
     o->wn = 0;
+    o->pending = o->npost = 0;
+    o->discarded = 0;
+    o->nseq = 0;
+    o->seq_off = o->cross_off = 0;
     o->active = 1;
     d->c.out_window = o->window;
     if (!me) return 1;
@@ -2233,6 +2346,8 @@ const sl_source *pcd_output_source(pcs_solver *s, int set, int ncomp, int c0, in
     pcd_stream *st = &o->st[o->nst++];
     *st = (pcd_stream){.s = s, .set = set, .ncomp = ncomp, .col = {c0, c1, c2}};
     for (int k = 0; k < ncomp; k++) st->tsz += col_size(st->col[k]);
+    for (int j = 0; j + 1 < o->nst; j++)
+        if (same_key(key_of(&o->st[j]), key_of(st))) st->dup++;
     st->src = (sl_source){out_read, st};
     return &st->src;
 }
@@ -2249,11 +2364,20 @@ void pcd_output_end(pcs_solver *s)
     struct pcd_out *o = d->out;
     const double c0 = par_counters().seconds;
     const int64_t done[8] = {0};
+    if (o->pending) { /* a window asked for and not read: its replies are due */
+        par_irecv_wait();
+        o->npost = o->pending = 0;
+    }
     for (int r = 1; r < s->split.size; r++) par_send_bytes(done, sizeof done, r, TAG_ASK);
     o->active = 0;
     d->c.out_writes++;
+    memcpy(o->order, o->seq, (size_t)o->nseq * sizeof *o->seq);
+    o->norder = o->nseq;
+    d->c.out_prefetched += o->prefetched;
+    d->c.out_discarded += o->discarded;
+    o->prefetched = 0;
     d->c.out_bytes += par_counters().bytes - o->bytes0;
-    const double held = (double)(o->window * 3 * sizeof(double)) +
+    const double held = (double)(o->window * 3 * sizeof(double)) * (o->win2 ? 2.0 : 1.0) +
         (double)o->tail_cap * sizeof *o->tail + (double)o->tbuf_cap * sizeof *o->tbuf;
     if (held > d->c.out_held) d->c.out_held = held;
     d->c.out_seconds += omp_get_wtime() - o->t0;

@@ -174,6 +174,25 @@ static void test_streamed_output(void **state)
                             "tests/output/parStream3/log.pcisph | awk 'NF == 3 { ok = $1 == 100 "
                             "&& $1 < $2 && $1 < $3 } END { exit !ok }'"),
                      0);
+    /* the prefetch (the default): rank 0 asked for the next window while it
+     * wrote the one before, and read every window it asked for ("(N windows
+     * asked for while the one before was written, 0 dropped unread)");
+     * without it (SLUICE_PARALLEL_OUTPUT_PREFETCH=0) the same bytes */
+    assert_int_equal(system("sed -En 's/.*\\(([0-9]+) windows asked for while the one before was "
+                            "written, ([0-9]+) dropped unread\\).*/\\1 \\2/p' "
+                            "tests/output/parStream3/log.pcisph | awk 'NF == 2 { ok = $1 > 100 "
+                            "&& $2 == 0 } END { exit !ok }'"),
+                     0);
+    setenv("SLUICE_PARALLEL_OUTPUT_WINDOW", "100", 1);
+    setenv("SLUICE_PARALLEL_OUTPUT_PREFETCH", "0", 1);
+    rc = run_np("tests/cases/damBreakShort", "parStreamNoPrefetch3", dam, 3);
+    unsetenv("SLUICE_PARALLEL_OUTPUT_PREFETCH");
+    unsetenv("SLUICE_PARALLEL_OUTPUT_WINDOW");
+    assert_int_equal(rc, 0);
+    same_output("parDamSerial", "parStreamNoPrefetch3");
+    assert_int_equal(system("grep -q '(0 windows asked for while the one before was written, 0 "
+                            "dropped unread)' tests/output/parStreamNoPrefetch3/log.pcisph"),
+                     0);
 }
 
 static void test_ranks_times_threads(void **state)
