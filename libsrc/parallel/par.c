@@ -349,6 +349,26 @@ void par_exchange_double(const double *s, const int *scnt, const int *sdis, doub
     par_exchange_wait();
 }
 
+size_t par_recv_bytes_upto(void *buf, size_t n, int from, int tag)
+{
+#ifdef SL_HAVE_MPI
+    if (n > 2147483647u) n = 2147483647u;
+    MPI_Status stt;
+    int got = 0;
+    const double t0 = MPI_Wtime();
+    MPI_Recv(buf, (int)n, MPI_BYTE, from, tag, MPI_COMM_WORLD, &stt);
+    MPI_Get_count(&stt, MPI_BYTE, &got);
+    count_.seconds += MPI_Wtime() - t0;
+    count_.calls++;
+    count_.messages++;
+    count_.bytes += (double)got;
+    return (size_t)got;
+#else
+    (void)buf, (void)n, (void)from, (void)tag;
+    return 0;
+#endif
+}
+
 #ifdef SL_HAVE_MPI
 static MPI_Request ireqs_[PAR_MAX_IRECV]; /* par_irecv_bytes's, in flight */
 #endif

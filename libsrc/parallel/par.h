@@ -79,6 +79,8 @@ double par_recv_double(int from);
  * tag keeps requests and replies apart; the receiver knows the size. */
 void par_send_bytes(const void *buf, size_t n, int to, int tag);
 void par_recv_bytes(void *buf, size_t n, int from, int tag);
+/* The same for a message of at most n bytes; returns its size. */
+size_t par_recv_bytes_upto(void *buf, size_t n, int from, int tag);
 /* Receives posted now and completed later (rank 0's streamed output asks
  * for the next window while it compresses the current one): par_irecv_bytes
  * posts one (at most PAR_MAX_IRECV in flight; buf must not be touched until

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
@@ -1840,8 +1841,10 @@ typedef struct pcd_stream {
     int set, ncomp, col[3];
     size_t tsz; /* bytes per tuple */
     sl_source src;
-    int read; /* its first window was filled in this write */
-    int dup;  /* streams of the same set and columns made before it in this write */
+    int read;   /* its first window was filled in this write */
+    int dup;    /* streams of the same set and columns made before it in this write */
+    size_t zbs; /* compressed reads: the block size (0: none yet) */
+    int zlevel;
 } pcd_stream;
 
 /* What a stream is (set, columns and which of those alike: the restart
@@ -1849,6 +1852,7 @@ typedef struct pcd_stream {
  * it in the next write. */
 typedef struct out_key {
     int set, ncomp, col[3], dup;
+    int z; /* read compressed (not compared) */
 } out_key;
 
 /* A particle emitted since the last sort: serial appends them by id. */
@@ -1893,6 +1897,24 @@ struct pcd_out {
      * last write's (order: after its stream k it read stream k + 1) */
     out_key seq[OUT_MAX_STREAMS], order[OUT_MAX_STREAMS];
     int nseq, norder;
+    /* compressed blocks (zlib appended VTK data): compress_ranks: every
+     * rank compresses the blocks inside its part of an array when rank 0
+     * starts it (the others' all at once, while rank 0 does its own), and
+     * rank 0 receives them in order, OUT_ZBATCH blocks a message.
+     * Rank 0: the batch received (blocks [zb0, zb1) of stream zst, rank
+     * zrank: zlen, then the bytes at zbuf); raw, a block's bytes.  The
+     * others: their blocks of the array asked for (zown: the bytes, zoff:
+     * each block's start, blocks [zown0, zown1)). */
+    int compress_ranks, in_zread;
+    size_t zlimit; /* in_zread: a raw window ends at this tuple (the block's end) */
+    const pcd_stream *zst;
+    int zrank;
+    size_t zb0, zb1;
+    unsigned char *zbuf, *raw;
+    size_t zbuf_cap, raw_cap;
+    unsigned char *zown;
+    size_t zown_cap, *zoff, zoff_cap, zown0, zown1;
+    long zblocks_ranks, zblocks_root;
     double bytes0, t0;
 };
 
@@ -1901,7 +1923,7 @@ static void out_free(struct pcd_out *o)
     if (!o) return;
     for (int k = 0; k < 3; k++) free(o->off[k]);
     free(o->tail), sl_free_aligned(o->tbuf), free(o->bperm), free(o->bkey), free(o->win);
-    free(o->win2);
+    free(o->win2), free(o->zbuf), free(o->raw), free(o->zown), free(o->zoff);
     free(o);
 }
 
@@ -2050,7 +2072,7 @@ static void out_get(pcs_solver *s, struct pcd_out *o, const pcd_stream *st, int 
         out_pack(s, o, st->set, st->ncomp, st->col, first, count, out);
         return;
     }
-    const int64_t ask[8] = {1,          st->set,    st->ncomp,     st->col[0],
+    const int64_t ask[8] = {1,          st->set,    st->ncomp,      st->col[0],
                             st->col[1], st->col[2], (int64_t)first, (int64_t)count};
     par_send_bytes(ask, sizeof ask, r, TAG_ASK);
     if (!later) {
@@ -2070,7 +2092,8 @@ static size_t out_fill_into(pcs_solver *s, struct pcd_out *o, const pcd_stream *
 {
     const int p = s->split.size;
     const size_t *off = o->off[st->set], nsorted = off[p];
-    const size_t end = t + o->window < o->total[st->set] ? t + o->window : o->total[st->set];
+    size_t end = t + o->window < o->total[st->set] ? t + o->window : o->total[st->set];
+    if (o->in_zread && o->zlimit < end) end = o->zlimit > t ? o->zlimit : t + 1;
     size_t g = t;
     int r = 0;
     while (g < end && g < nsorted) {
@@ -2091,7 +2114,7 @@ static size_t out_fill_into(pcs_solver *s, struct pcd_out *o, const pcd_stream *
 
 static out_key key_of(const pcd_stream *st)
 {
-    return (out_key){st->set, st->ncomp, {st->col[0], st->col[1], st->col[2]}, st->dup};
+    return (out_key){st->set, st->ncomp, {st->col[0], st->col[1], st->col[2]}, st->dup, 0};
 }
 
 static int same_key(out_key a, out_key b)
@@ -2108,6 +2131,7 @@ static const pcd_stream *out_next_stream(const struct pcd_out *o, const pcd_stre
     const out_key k = key_of(st);
     for (int i = 0; i + 1 < o->norder; i++)
         if (same_key(o->order[i], k)) {
+            if (o->order[i + 1].z) return NULL; /* compressed by its ranks: nothing to fetch */
             for (int j = 0; j < o->nst; j++)
                 if (!o->st[j].read && same_key(key_of(&o->st[j]), o->order[i + 1]))
                     return &o->st[j];
@@ -2147,7 +2171,7 @@ static void out_fill(pcs_solver *s, struct pcd_out *o, pcd_stream *st, size_t t)
         o->wn = out_fill_into(s, o, st, t, o->win, 0);
         o->wcur = st, o->w0 = t;
     }
-    if (!o->prefetch || !o->wn) return;
+    if (!o->prefetch || !o->wn || o->in_zread) return;
     const pcd_stream *nst = st;
     size_t next = o->w0 + o->wn;
     if (next < o->total[st->set] && o->seq_off) return;
@@ -2182,6 +2206,147 @@ static void out_read(void *ctx, size_t off, size_t len, void *dst)
     }
 }
 
+#define OUT_ZBATCH 16 /* compressed blocks per message */
+
+/* The blocks of a stream (nbytes in all, blocks of bs) wholly inside rank
+ * r's sorted part: [*b0, *b1). */
+static void out_zblocks(const struct pcd_out *o, int set, size_t tsz, size_t bs, int r, size_t *b0,
+                        size_t *b1)
+{
+    const size_t lo = o->off[set][r] * tsz, hi = o->off[set][r + 1] * tsz;
+    const size_t nbytes = o->total[set] * tsz, nblocks = (nbytes + bs - 1) / bs;
+    *b0 = (lo + bs - 1) / bs;
+    *b1 = hi == nbytes ? nblocks : hi / bs;
+    if (*b1 < *b0) *b1 = *b0;
+}
+
+/* A rank's blocks of one stream, compressed at once (the threads share
+ * the blocks; each block's bytes are compress2's whatever the thread). */
+static void out_zcompress(pcs_solver *s, struct pcd_out *o, int set, int ncomp, const int *col,
+                          size_t bs, int level)
+{
+    size_t tsz = 0;
+    for (int k = 0; k < ncomp; k++) tsz += col_size(col[k]);
+    const int me = s->split.rank;
+    size_t b0, b1;
+    out_zblocks(o, set, tsz, bs, me, &b0, &b1);
+    const size_t nb = b1 - b0, cap = compressBound((uLong)bs), lo = o->off[set][me] * tsz;
+    const size_t nbytes = o->total[set] * tsz;
+    o->zoff = grow(o->zoff, &o->zoff_cap, nb + 1, sizeof *o->zoff, "output blocks");
+    o->zown = grow(o->zown, &o->zown_cap, nb * cap + 1, 1, "output blocks");
+    const int nt = omp_get_max_threads();
+    o->raw = grow(o->raw, &o->raw_cap, (size_t)nt * (bs + 2 * tsz), 1, "output blocks");
+    size_t *zl = o->zoff + 1; /* each block's length first, then the starts */
+#pragma omp parallel for schedule(dynamic, 1)
+    for (size_t q = 0; q < nb; q++) {
+        unsigned char *raw = o->raw + (size_t)omp_get_thread_num() * (bs + 2 * tsz);
+        const size_t g0 = (b0 + q) * bs, len = nbytes - g0 < bs ? nbytes - g0 : bs;
+        const size_t l0 = g0 - lo, first = l0 / tsz, last = (l0 + len + tsz - 1) / tsz;
+        out_pack(s, o, set, ncomp, col, first, last - first, raw);
+        uLongf zlen = (uLongf)cap;
+        if (compress2(o->zown + q * cap, &zlen, raw + (l0 - first * tsz), (uLong)len, level) !=
+            Z_OK)
+            sl_fatal("pcs_domain: zlib failed on an output block (internal error)");
+        zl[q] = zlen;
+    }
+    /* packed: the blocks one after another, zoff[q] the start of block q */
+    size_t at = 0;
+    for (size_t q = 0; q < nb; q++) {
+        const size_t len = zl[q];
+        memmove(o->zown + at, o->zown + q * cap, len);
+        o->zoff[q] = at;
+        at += len;
+    }
+    o->zoff[nb] = at;
+    o->zown0 = b0, o->zown1 = b1;
+}
+
+/* The reply to a batch request: the lengths of blocks [b0, b1) (8 B each),
+ * then their bytes, one message. */
+static void out_zsend(struct pcd_out *o, size_t b0, size_t b1)
+{
+    if (b0 < o->zown0 || b1 > o->zown1 || b1 <= b0 || b1 - b0 > OUT_ZBATCH)
+        sl_fatal("pcs_domain: compressed output blocks %zu-%zu asked for, %zu-%zu held (internal "
+                 "error)",
+                 b0, b1, o->zown0, o->zown1);
+    const size_t q0 = b0 - o->zown0, q1 = b1 - o->zown0;
+    const size_t data = o->zoff[q1] - o->zoff[q0], head = (b1 - b0) * sizeof(uint64_t);
+    o->raw = grow(o->raw, &o->raw_cap, head + data, 1, "output blocks");
+    for (size_t q = q0; q < q1; q++) {
+        const uint64_t len = o->zoff[q + 1] - o->zoff[q];
+        memcpy(o->raw + (q - q0) * sizeof len, &len, sizeof len);
+    }
+    memcpy(o->raw + head, o->zown + o->zoff[q0], data);
+    par_send_bytes(o->raw, head + data, 0, TAG_PART);
+}
+
+static void out_read(void *ctx, size_t off, size_t len, void *dst);
+
+/* zread of a stream (rank 0): a block wholly inside another rank's part
+ * from that rank (compressed there), any other compressed here. */
+static size_t out_zread(void *ctx, size_t off, size_t len, int level, void *dst, size_t cap)
+{
+    pcd_stream *st = ctx;
+    pcs_solver *s = st->s;
+    struct pcd_out *o = s->split.dd->out;
+    const int p = s->split.size;
+    if (!st->zbs) { /* the array's first block: every rank compresses its blocks now */
+        if (off) sl_fatal("pcs_domain: compressed output not read from its start (internal error)");
+        st->zbs = len, st->zlevel = level;
+        if (!st->read) {
+            st->read = 1;
+            out_key k = key_of(st);
+            k.z = 1;
+            if (o->nseq < OUT_MAX_STREAMS) o->seq[o->nseq++] = k;
+        }
+        const int64_t ask[8] = {2,          st->set,    st->ncomp,        st->col[0],
+                                st->col[1], st->col[2], (int64_t)st->zbs, level};
+        for (int r = 1; r < p; r++) par_send_bytes(ask, sizeof ask, r, TAG_ASK);
+    }
+    const size_t bs = st->zbs, nbytes = o->total[st->set] * st->tsz;
+    if (off % bs || level != st->zlevel || len != (nbytes - off < bs ? nbytes - off : bs))
+        sl_fatal("pcs_domain: compressed output read out of its blocks (internal error)");
+    const size_t b = off / bs;
+    /* the rank whose sorted part holds the block's first byte */
+    const size_t *ro = o->off[st->set];
+    int r = 0;
+    while (r + 1 < p && ro[r + 1] * st->tsz <= off) r++;
+    size_t b0, b1;
+    out_zblocks(o, st->set, st->tsz, bs, r, &b0, &b1);
+    if (r == 0 || b < b0 || b >= b1) { /* here: rank 0's, across ranks, or the tail */
+        o->raw = grow(o->raw, &o->raw_cap, len, 1, "output blocks");
+        o->in_zread = 1;
+        o->zlimit = (off + len + st->tsz - 1) / st->tsz;
+        out_read(st, off, len, o->raw);
+        o->in_zread = 0;
+        uLongf zlen = (uLongf)cap;
+        if (compress2(dst, &zlen, o->raw, (uLong)len, level) != Z_OK)
+            sl_fatal("pcs_domain: zlib failed on an output block (internal error)");
+        o->zblocks_root++;
+        return zlen;
+    }
+    if (o->zst != st || o->zrank != r || b < o->zb0 || b >= o->zb1) {
+        const size_t e = b + OUT_ZBATCH < b1 ? b + OUT_ZBATCH : b1;
+        const int64_t ask[8] = {3, (int64_t)b, (int64_t)e, 0, 0, 0, 0, 0};
+        par_send_bytes(ask, sizeof ask, r, TAG_ASK);
+        const size_t most = (e - b) * (sizeof(uint64_t) + compressBound((uLong)bs));
+        o->zbuf = grow(o->zbuf, &o->zbuf_cap, most, 1, "output blocks");
+        par_recv_bytes_upto(o->zbuf, most, r, TAG_PART);
+        o->zst = st, o->zrank = r, o->zb0 = b, o->zb1 = e;
+    }
+    size_t at = (o->zb1 - o->zb0) * sizeof(uint64_t);
+    uint64_t zl = 0;
+    for (size_t q = o->zb0; q <= b; q++) {
+        memcpy(&zl, o->zbuf + (q - o->zb0) * sizeof zl, sizeof zl);
+        if (q < b) at += (size_t)zl;
+    }
+    if (zl > cap)
+        sl_fatal("pcs_domain: a compressed output block larger than its bound (internal error)");
+    memcpy(dst, o->zbuf + at, (size_t)zl);
+    o->zblocks_ranks++;
+    return (size_t)zl;
+}
+
 /* The prefix offsets of one count per rank. */
 static void out_offsets(struct pcd_out *o, int set, const long *all, int p)
 {
@@ -2210,6 +2375,13 @@ int pcd_output_begin(pcs_solver *s, const pcs_snapshot *prev)
             sl_fatal("SLUICE_PARALLEL_OUTPUT_PREFETCH=%s: 1 (rank 0 asks for the next window "
                      "of an array while it writes this one; the default) or 0",
                      pf);
+        const char *zc = getenv("SLUICE_PARALLEL_OUTPUT_COMPRESS");
+        d->out->compress_ranks = !(zc && *zc) || !strcmp(zc, "ranks");
+        if (zc && *zc && strcmp(zc, "ranks") && strcmp(zc, "root"))
+            sl_fatal("SLUICE_PARALLEL_OUTPUT_COMPRESS=%s: ranks (every rank compresses the "
+                     "blocks of its part of fluid.vtu and boundary.vtu; the default) or root "
+                     "(rank 0 compresses them all)",
+                     zc);
         if (d->out->prefetch && !s->split.rank)
             d->out->win2 = sl_malloc(d->out->window * 3 * sizeof(double), "output window");
     }
@@ -2309,6 +2481,8 @@ int pcd_output_begin(pcs_solver *s, const pcs_snapshot *prev)
     o->discarded = 0;
     o->nseq = 0;
     o->seq_off = o->cross_off = 0;
+    o->zst = NULL;
+    o->zblocks_ranks = o->zblocks_root = 0;
     o->active = 1;
     d->c.out_window = o->window;
     if (!me) return 1;
@@ -2319,6 +2493,20 @@ int pcd_output_begin(pcs_solver *s, const pcs_snapshot *prev)
         par_recv_bytes(ask, sizeof ask, 0, TAG_ASK);
         if (!ask[0]) break;
         const int col[3] = {(int)ask[3], (int)ask[4], (int)ask[5]};
+        if (ask[0] == 2) { /* compress this rank's blocks of an array */
+            if (ask[1] != PCD_SET_FLUID && ask[1] != PCD_SET_BOUNDARY && ask[1] != PCD_SET_PREV)
+                sl_fatal("pcs_domain: an output request for set %ld (internal error)",
+                         (long)ask[1]);
+            if (ask[2] < 1 || ask[2] > 3 || ask[6] < 1 || ask[7] < 0 || ask[7] > 9)
+                sl_fatal("pcs_domain: an output request for blocks of %ld bytes (internal error)",
+                         (long)ask[6]);
+            out_zcompress(s, o, (int)ask[1], (int)ask[2], col, (size_t)ask[6], (int)ask[7]);
+            continue;
+        }
+        if (ask[0] == 3) {
+            out_zsend(o, (size_t)ask[1], (size_t)ask[2]);
+            continue;
+        }
         size_t tsz = 0;
         for (int k = 0; k < (int)ask[2]; k++) tsz += col_size(col[k]);
         const size_t first = (size_t)ask[6], count = (size_t)ask[7];
@@ -2348,7 +2536,7 @@ const sl_source *pcd_output_source(pcs_solver *s, int set, int ncomp, int c0, in
     for (int k = 0; k < ncomp; k++) st->tsz += col_size(st->col[k]);
     for (int j = 0; j + 1 < o->nst; j++)
         if (same_key(key_of(&o->st[j]), key_of(st))) st->dup++;
-    st->src = (sl_source){out_read, st};
+    st->src = (sl_source){out_read, st, o->compress_ranks ? out_zread : NULL};
     return &st->src;
 }
 
@@ -2373,6 +2561,8 @@ void pcd_output_end(pcs_solver *s)
     d->c.out_writes++;
     memcpy(o->order, o->seq, (size_t)o->nseq * sizeof *o->seq);
     o->norder = o->nseq;
+    d->c.out_zblocks_ranks += o->zblocks_ranks;
+    d->c.out_zblocks_root += o->zblocks_root;
     d->c.out_prefetched += o->prefetched;
     d->c.out_discarded += o->discarded;
     o->prefetched = 0;
