@@ -371,8 +371,8 @@ size_t par_recv_bytes_upto(void *buf, size_t n, int from, int tag)
 
 #ifdef SL_HAVE_MPI
 static MPI_Request ireqs_[PAR_MAX_IRECV]; /* par_irecv_bytes's, in flight */
-#endif
 static int nireq_;
+#endif
 
 void par_irecv_bytes(void *buf, size_t n, int from, int tag)
 {
