@@ -43,7 +43,7 @@ int nbr_unit_setting(void)
 const char *nbr_unit_name(const nbr_grid *g, char *buf, size_t len)
 {
     if (g->unit[1] == 1 && g->unit[2] == 1 && g->unit[0] == g->nc[0]) snprintf(buf, len, "row");
-    else snprintf(buf, len, "block %dx%dx%d", g->unit[0], g->unit[1], g->unit[2]);
+    else snprintf(buf, len, "block:%d", g->unit[0]);
     return buf;
 }
 

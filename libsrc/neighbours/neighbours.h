@@ -85,7 +85,7 @@ void nbr_grid_init(nbr_grid *g, const double lo[3], const double hi[3], double h
 /* The units SLUICE_GRID_UNIT asks for: 0 rows, else a block's cells a side
  * (a bad value stops the run with a message). */
 int nbr_unit_setting(void);
-/* "row" or "block NxNxN", for logs. */
+/* "row" or "block:N" (the setting's spelling), for logs. */
 const char *nbr_unit_name(const nbr_grid *g, char *buf, size_t len);
 void nbr_grid_free(nbr_grid *g);
 
