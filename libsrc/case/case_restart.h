@@ -17,21 +17,24 @@
  *   pieces  for each state, each field (x, y, z, vx, vy, vz: doubles; id:
  *           uint32) in pieces of RST_RECORDS records, each piece its own
  *           member (records [p R, (p + 1) R) of that field);
- *   index   one entry per piece in file order: its offset, compressed
- *           length, CRC-32, and the least and largest value it holds;
+ *   index   one entry per piece in file order: its offset, length, the
+ *           CRC-32 of its bytes, the least and largest value it holds;
  *   state   the run's other state;
  *   tail    an uncompressed (stored) member of fixed size at the very end:
- *           where the head, index and state members are, their CRC-32s.
+ *           where the head, index and state members are, the CRC-32s of
+ *           their bytes.
  *
  * The pieces depend on the records only (not on who fed the writer), so
  * the file is the same bytes whatever rank count wrote it.  A reader finds
  * the tail at the end, checks it, reads the index, and can then decompress
  * only the pieces of the records it wants: a rank of -parallel's set-up in
  * parts (case_part.h) reads its share of the positions to count the rows,
- * and then the pieces holding its own records.  Every member carries its
- * CRC-32 (checked when it is decompressed) and the index records where
- * each one ends, so a damaged piece, a short file or bytes after the tail
- * are refused, naming the file.
+ * and then the pieces holding its own records.  A member's bytes are
+ * checked against the CRC-32 the index (or the tail) records before it is
+ * decompressed, and its data against its own gzip trailer after; the tail
+ * is checked whole and says where every member ends: so any damaged byte,
+ * a short file or bytes after the tail are refused, naming the file (and
+ * the state, field and records of a damaged piece).
  *
  * Format 2 (SLUICE-RESTART-2, one gzip stream of the same fields, whose
  * trailer's CRC-32 covers every byte) is still read (case_restart_v2.h),
