@@ -134,6 +134,7 @@ pcd_plan *case_part_build(sl_case *c, const char *restart, const pcs_snapshot *h
             prev->step = heads[1].step;
             scan(restart, heads, 1, &sc);
         }
+        rst_scan_end();
     }
     pcd_plan_built(pl);
     return pl;

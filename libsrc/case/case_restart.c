@@ -273,6 +273,7 @@ int rst_write_states(const char *dir, const rst_state *states, int nstates, cons
     }
     char *path = rst_path(dir, 1, err);
     if (!path) return 1;
+    rst_scan_end();
     int rc;
     if (v && !strcmp(v, "2")) rc = rst2_write(path, states, nstates, ctrl, ctrl_size, err);
     else if ((rc = write3(path, states, nstates, ctrl, ctrl_size)) != 0)
@@ -582,6 +583,7 @@ static rst_status read_file(const char *dir, pcs_snapshot *snaps, int max, int *
 {
     char *path = rst_path(dir, 0, err);
     rst_status st;
+    rst_scan_end();
     clock_start();
     const int v = format_of(path, &st, err);
     if (v == 3) st = read3(path, snaps, max, nsnaps, ctrl, ctrl_size, arrays, err);
@@ -608,21 +610,40 @@ rst_status rst_probe(const char *dir, pcs_snapshot *snaps, int max, int *nsnaps,
     return read_file(dir, snaps, max, nsnaps, ctrl, ctrl_size, 0, err);
 }
 
+/* The reader of the last scan of a file of format 3, kept open for the
+ * next scan of the same file (its tail, head and index read once) until
+ * rst_scan_end. */
+static r3 open_;
+static char *open_path_;
+
+void rst_scan_end(void)
+{
+    if (!open_path_) return;
+    r3_close(&open_);
+    free(open_path_);
+    open_path_ = NULL;
+}
+
 /* rst_scan of a file of format 3: the selected blocks' pieces only. */
 static int scan3(const char *path, const pcs_snapshot *snaps, int k, const rst_select *sel,
                  rst_chunk_fn fn, void *ctx, sl_err *err)
 {
-    r3 r;
-    if (r3_open(&r, path, err) != RST_OK) {
-        r3_close(&r);
+    if (!open_path_ || strcmp(open_path_, path)) {
+        rst_scan_end();
+        open_path_ = sl_malloc(strlen(path) + 1, "path");
+        strcpy(open_path_, path);
+        if (r3_open(&open_, open_path_, err) != RST_OK) {
+            rst_scan_end();
+            return 1;
+        }
+    }
+    r3 *r = &open_;
+    if ((size_t)k >= r->h.nsnaps || r->s[k].n != snaps[k].n) {
+        damaged(r, err, "it changed since it was first read");
+        rst_scan_end();
         return 1;
     }
-    if ((size_t)k >= r.h.nsnaps || r.s[k].n != snaps[k].n) {
-        damaged(&r, err, "it changed since it was first read");
-        r3_close(&r);
-        return 1;
-    }
-    const size_t R = (size_t)r.h.records, n = (size_t)r.s[k].n, nb = r.nb[k];
+    const size_t R = (size_t)r->h.records, n = (size_t)r->s[k].n, nb = r->nb[k];
     size_t b0 = 0, b1 = nb;
     if (sel && sel->parts > 1) {
         b0 = nb * (size_t)sel->part / (size_t)sel->parts;
@@ -638,25 +659,25 @@ static int scan3(const char *path, const pcs_snapshot *snaps, int k, const rst_s
         if (sel && sel->box) {
             double lo[3], hi[3];
             for (int d = 0; d < 3; d++) {
-                const rst3_entry *e = &r.e[r.base[k] + (size_t)d * nb + p];
+                const rst3_entry *e = &r->e[r->base[k] + (size_t)d * nb + p];
                 lo[d] = e->lo, hi[d] = e->hi;
             }
             if (!sel->box(ctx, lo, hi)) continue;
         }
-        for (int j = 0; j < 3 && !rc; j++) rc = r3_piece(&r, (size_t)k, j, p, a[j], err);
+        for (int j = 0; j < 3 && !rc; j++) rc = r3_piece(r, (size_t)k, j, p, a[j], err);
         if (rc) break;
         if (sel && sel->want) {
             size_t i = 0;
             while (i < m && !sel->want(ctx, a[0][i], a[1][i], a[2][i])) i++;
             if (i == m) continue;
         }
-        for (int j = 3; j < 6 && all && !rc; j++) rc = r3_piece(&r, (size_t)k, j, p, a[j], err);
-        if (!rc && all) rc = r3_piece(&r, (size_t)k, 6, p, id, err);
+        for (int j = 3; j < 6 && all && !rc; j++) rc = r3_piece(r, (size_t)k, j, p, a[j], err);
+        if (!rc && all) rc = r3_piece(r, (size_t)k, 6, p, id, err);
         if (!rc) fn(ctx, m, (const double *const *)a, id);
     }
     for (int j = 0; j < 6; j++) free(a[j]);
     free(id);
-    r3_close(&r);
+    if (rc) rst_scan_end();
     return rc ? 1 : 0;
 }
 
@@ -666,7 +687,7 @@ int rst_scan(const char *dir, const pcs_snapshot *snaps, int k, const rst_select
     char *path = rst_path(dir, 0, err);
     rst_status st;
     clock_start();
-    const int v = format_of(path, &st, err);
+    const int v = open_path_ && !strcmp(open_path_, path) ? 3 : format_of(path, &st, err);
     const int rc = v == 3 ? scan3(path, snaps, k, sel, fn, ctx, err)
         : v == 2          ? rst2_scan(path, snaps, k, sel, fn, ctx, err)
                           : 1;

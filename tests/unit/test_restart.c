@@ -475,6 +475,38 @@ static void test_truncated_and_tail(void **state)
     fixture_free(&f);
 }
 
+/* A state without a particle (an emitter's before it starts) and no run
+ * state: empty members, read back as such, and scanned as nothing. */
+static void test_empty_state(void **state)
+{
+    (void)state;
+    char dir[256];
+    sl_err err;
+    pcs_snapshot s[2], got[2], heads[2];
+    make_state(&s[0], 0, 0);
+    make_state(&s[1], 3, 1);
+    const pcs_snapshot *snaps[2] = {&s[0], &s[1]};
+    dir_of("empty", dir, sizeof dir);
+    assert_int_equal(rst_write(dir, snaps, 2, NULL, 0, &err), 0);
+    int n = 0;
+    snap_init(&got[0]), snap_init(&got[1]);
+    if (rst_read(dir, got, 2, &n, NULL, 0, &err) != RST_OK) fail_msg("%s", err.msg);
+    assert_int_equal(n, 2);
+    assert_int_equal(got[0].n, 0);
+    assert_true(snap_equal(&got[1], &s[1]));
+    snap_init(&heads[0]), snap_init(&heads[1]);
+    assert_int_equal(rst_probe(dir, heads, 2, &n, NULL, 0, &err), RST_OK);
+    collect c;
+    scan_into(dir, heads, 0, NULL, &c);
+    assert_int_equal(c.out.n, 0);
+    assert_int_equal(c.chunks, 0);
+    snap_free(&c.out);
+    scan_into(dir, heads, 1, NULL, &c);
+    assert_records(&c, 0, &s[1], 0, 3, 0);
+    snap_free(&c.out);
+    for (int k = 0; k < 2; k++) snap_free(&s[k]), snap_free(&got[k]);
+}
+
 int main(void)
 {
     char cmd[300];
@@ -483,7 +515,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_round_trip),         cmocka_unit_test(test_same_bytes_any_source),
         cmocka_unit_test(test_old_format),         cmocka_unit_test(test_damaged_piece),
-        cmocka_unit_test(test_truncated_and_tail),
+        cmocka_unit_test(test_truncated_and_tail), cmocka_unit_test(test_empty_state),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
