@@ -3,7 +3,8 @@
 efficiency of pcisph -parallel on P ranks (one core each), for the three
 modes that exist: phase 1 (gather mode), phase 1b (halo mode) and phase 2
 (the domain mode, the default: own + halo stored, halo exchanged
-point-to-point), and for phase 2 as designed (a 3-D partition with a
+point-to-point; its ranks owning whole x-rows of cells, the default, or
+blocks of cells, SLUICE_GRID_UNIT=block), and for phase 2 as designed (a 3-D partition with a
 one-cell halo, not built).  Inputs measured on this machine are named
 below; the interconnect figures are published ones (100 Gb/s InfiniBand,
 1-2 us).  Run: python3 doc/parallel_model.py
@@ -39,6 +40,13 @@ KAPPA_H = (3.9, 14.0)  # own rows reading a halo value (border rows) = kappa_h (
                      # at 64 (>= 14): 3.9 the mean of a small job, 14 the worst rank of a large
                      # one.  A run on 2 ranks computes 84 % of its own rows while the halo
                      # travels (End summary, "overlap"): 16 % border, decomposeCase 14-19 %.
+# the same with blocks of 4x4x4 cells (SLUICE_GRID_UNIT=block; decomposeCase -unit
+# row,block:4, 2026-12-04): a shell one cell thick around runs of blocks along a Hilbert curve
+KAPPA_STORED_BLOCK = (9.8, 14.4)  # 191 k: 8,160 per rank on 8 ranks (9.8), 2,986 on 64
+                     # (14.4); at r0 0.018 m 11.6 (8 ranks), 14.3 (64)
+KAPPA_H_BLOCK = (6.1, 9.8)  # border rows, 191 k: all ranks 21 % at 8 (6.1), 50 % at 64
+                     # (7.2); the worst rank 25 % at 8 (7.2), 68 % at 64 (9.8)
+NBRS_BLOCK = 25      # neighbour ranks of a rank with blocks (decomposeCase "ranks max" at 64)
 # ---- published: 100 Gb/s InfiniBand ----
 ALPHA = 1.5e-6       # s latency per message
 BW = 12.5e9          # bytes/s
@@ -91,7 +99,7 @@ def small_alltoall(p):
     """Alltoall of one int per rank (Bruck's algorithm for small messages)."""
     return math.log2(p) * ALPHA if p > 1 else 0.0
 
-def phase2_built(n, p, kappa, kappa_h=None):
+def phase2_built(n, p, kappa, kappa_h=None, nbrs_max=NBRS_DOMAIN):
     """Domain mode as built (solver/pcs_domain.c): each rank computes its
     n/P own particles and sorts and searches its stored halo too; per
     iteration x* and then p/rho^2 and rho of the stored halo with its
@@ -107,7 +115,7 @@ def phase2_built(n, p, kappa, kappa_h=None):
     boundary is distributed once (and at rebalancings), not per step."""
     nl = n / p
     halo = kappa * nl ** (2.0 / 3.0) if p > 1 else 0.0
-    nbrs = min(p - 1, NBRS_DOMAIN)
+    nbrs = min(p - 1, nbrs_max)
     compute = nl * C + halo * C * SEARCH_HALO
     blocks = math.log2(p) * ALPHA + 8 * n / 4096 / BW if p > 1 else 0.0
     p2p = 2 * nbrs * ALPHA + HALO_W * halo / BW if p > 1 else 0.0
@@ -119,19 +127,20 @@ def phase2_built(n, p, kappa, kappa_h=None):
                 + 2 * allreduce(p) + 4 * allreduce(p))
     return compute, ITER * per_iter + per_step
 
-def table_built(title, n_of_p, ps):
-    print(f"\n{title}: phase 2 as built (domain mode), kappa_stored "
-          f"{KAPPA_STORED[0]}..{KAPPA_STORED[1]}")
+def table_built(title, n_of_p, ps, unit="rows", kappas=KAPPA_STORED, kappas_h=KAPPA_H,
+                nbrs_max=NBRS_DOMAIN):
+    print(f"\n{title}: phase 2 as built (domain mode, {unit}), kappa_stored "
+          f"{kappas[0]}..{kappas[1]}")
     print(f"{'ranks':>6} {'N':>10} | {'s/step':>17} {'comm %':>7} {'efficiency':>12} |"
           f" {'stored / own':>12} | {'overlap: comm %':>15} {'efficiency':>12}")
     for p in ps:
         n = n_of_p(p)
         ideal = n * C / p
-        r = [phase2_built(n, p, k) for k in KAPPA_STORED]
+        r = [phase2_built(n, p, k, None, nbrs_max) for k in kappas]
         t = [c + m for c, m in r]
         nl = n / p
-        st = [k * nl ** (2.0 / 3.0) / nl if p > 1 else 0.0 for k in KAPPA_STORED]
-        ro = [phase2_built(n, p, k, kh) for k, kh in zip(KAPPA_STORED, KAPPA_H)]
+        st = [k * nl ** (2.0 / 3.0) / nl if p > 1 else 0.0 for k in kappas]
+        ro = [phase2_built(n, p, k, kh, nbrs_max) for k, kh in zip(kappas, kappas_h)]
         to = [c + m for c, m in ro]
         print(f"{p:>6} {n:>10.3g} | {t[0]:>8.4g}-{t[1]:<8.4g} {100 * r[1][1] / t[1]:>6.1f}% "
               f"{100 * ideal / t[1]:>5.1f}-{100 * ideal / t[0]:<5.1f}% |"
@@ -174,6 +183,12 @@ if __name__ == "__main__":
                 [2, 8, 16, 32, 64])
     table_built("Weak scaling, 97.7 k particles per rank (100 M on 1024 ranks)",
                 lambda p: 97.7e3 * p, [64, 128, 256, 512, 1024])
+    blocks = dict(unit="blocks of 4x4x4 cells", kappas=KAPPA_STORED_BLOCK,
+                  kappas_h=KAPPA_H_BLOCK, nbrs_max=NBRS_BLOCK)
+    table_built("Strong scaling, CBD large (1.7 M fluid particles)", lambda p: 1.7e6,
+                [2, 8, 16, 32, 64], **blocks)
+    table_built("Weak scaling, 97.7 k particles per rank (100 M on 1024 ranks)",
+                lambda p: 97.7e3 * p, [64, 128, 256, 512, 1024], **blocks)
     c, m = phase1(1.7e6, 64, f_split=0.97)
     print(f"\nPhase 1 with every phase split (f_split 0.97), CBD large on 64 ranks: "
           f"{c + m:.4g} s/step, efficiency {100 * 1.7e6 * C / 64 / (c + m):.0f} % "

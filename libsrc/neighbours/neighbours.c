@@ -9,6 +9,7 @@
 #if defined(__AVX512F__)
 #include <immintrin.h>
 #endif
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -23,6 +24,177 @@ static int cmp_cell_key(const void *a, const void *b)
 {
     const cell_key *x = a, *y = b;
     return (x->morton > y->morton) - (x->morton < y->morton);
+}
+
+int nbr_unit_setting(void)
+{
+    const char *e = getenv("SLUICE_GRID_UNIT");
+    if (!e || !*e || !strcmp(e, "row")) return 0;
+    if (!strcmp(e, "block")) return 4;
+    int n = 0;
+    char tail = 0;
+    if (sscanf(e, "block:%d%c", &n, &tail) == 1 && n >= 2 && n <= 16) return n;
+    sl_fatal("SLUICE_GRID_UNIT=%s: row (whole x-rows of cells), block (blocks of 4x4x4 cells) "
+             "or block:N (N = 2..16 cells a side)",
+             e);
+    return 0;
+}
+
+const char *nbr_unit_name(const nbr_grid *g, char *buf, size_t len)
+{
+    if (g->unit[1] == 1 && g->unit[2] == 1 && g->unit[0] == g->nc[0]) snprintf(buf, len, "row");
+    else snprintf(buf, len, "block:%d", g->unit[0]);
+    return buf;
+}
+
+/* The generalised Hilbert curve of a box of any size (Cervený 2018,
+ * "gilbert"): a box with a major axis a and two others b, c (vectors from
+ * its corner p) is split in halves along the axes long enough to split,
+ * and its parts visited in the Hilbert order, each with its axes turned
+ * so that the curve enters it where the last one left; a box one cell
+ * thick is walked straight.  Each block gets the next number (order[]: the
+ * position of the block at linear index bx + mx (by + my bz)); odd sizes
+ * may need a diagonal step, never a cell missed or visited twice. */
+typedef struct curve {
+    int m[3];
+    uint32_t *order;
+    uint32_t next;
+} curve;
+
+static int sgn(int v) { return (v > 0) - (v < 0); }
+static int len3(const int v[3]) { return abs(v[0] + v[1] + v[2]); }
+
+static void curve_walk(curve *c, const int p[3], const int a[3])
+{
+    const int n = len3(a), s[3] = {sgn(a[0]), sgn(a[1]), sgn(a[2])};
+    for (int i = 0; i < n; i++) {
+        const int x = p[0] + i * s[0], y = p[1] + i * s[1], z = p[2] + i * s[2];
+        c->order[(size_t)x + (size_t)c->m[0] * ((size_t)y + (size_t)c->m[1] * (size_t)z)] =
+            c->next++;
+    }
+}
+
+/* q = p + u + v + w (any of them NULL) */
+static void add3(int q[3], const int p[3], const int *u, const int *v, const int *w)
+{
+    for (int k = 0; k < 3; k++) q[k] = p[k] + (u ? u[k] : 0) + (v ? v[k] : 0) + (w ? w[k] : 0);
+}
+
+static void curve_box(curve *c, const int p[3], const int a[3], const int b[3], const int e[3])
+{
+    const int w = len3(a), h = len3(b), d = len3(e);
+    if (h == 1 && d == 1) return curve_walk(c, p, a);
+    if (w == 1 && d == 1) return curve_walk(c, p, b);
+    if (w == 1 && h == 1) return curve_walk(c, p, e);
+    int a2[3], b2[3], e2[3], da[3], db[3], de[3];
+    for (int k = 0; k < 3; k++) {
+        a2[k] = a[k] / 2, b2[k] = b[k] / 2, e2[k] = e[k] / 2;
+        da[k] = sgn(a[k]), db[k] = sgn(b[k]), de[k] = sgn(e[k]);
+    }
+    /* halves of even length where the side allows */
+    if (len3(a2) % 2 && w > 2) add3(a2, a2, da, NULL, NULL);
+    if (len3(b2) % 2 && h > 2) add3(b2, b2, db, NULL, NULL);
+    if (len3(e2) % 2 && d > 2) add3(e2, e2, de, NULL, NULL);
+    int ra[3], rb[3], re[3], nb2[3], q[3], t[3];
+    for (int k = 0; k < 3; k++) {
+        ra[k] = a[k] - a2[k], rb[k] = b[k] - b2[k], re[k] = e[k] - e2[k]; /* the other halves */
+        nb2[k] = -b2[k];
+    }
+    if (2 * w > 3 * h && 2 * w > 3 * d) { /* long: split a only */
+        curve_box(c, p, a2, b, e);
+        add3(q, p, a2, NULL, NULL);
+        curve_box(c, q, ra, b, e);
+    } else if (3 * h > 4 * d) { /* split a and b */
+        int nra[3];
+        for (int k = 0; k < 3; k++) nra[k] = -ra[k], t[k] = a[k] - da[k] + b2[k] - db[k];
+        curve_box(c, p, b2, e, a2);
+        add3(q, p, b2, NULL, NULL);
+        curve_box(c, q, a, rb, e);
+        add3(q, p, t, NULL, NULL);
+        curve_box(c, q, nb2, e, nra);
+    } else if (3 * d > 4 * h) { /* split a and e */
+        int nra[3], ne2[3];
+        for (int k = 0; k < 3; k++)
+            nra[k] = -ra[k], ne2[k] = -e2[k], t[k] = a[k] - da[k] + e2[k] - de[k];
+        curve_box(c, p, e2, a2, b);
+        add3(q, p, e2, NULL, NULL);
+        curve_box(c, q, a, b, re);
+        add3(q, p, t, NULL, NULL);
+        curve_box(c, q, ne2, nra, b);
+    } else { /* split all three: five parts */
+        int nra[3], nre[3], ne[3];
+        for (int k = 0; k < 3; k++) nra[k] = -ra[k], nre[k] = -re[k], ne[k] = -e[k];
+        curve_box(c, p, b2, e2, a2);
+        add3(q, p, b2, NULL, NULL);
+        curve_box(c, q, e, a2, rb);
+        for (int k = 0; k < 3; k++) t[k] = b2[k] - db[k] + e[k] - de[k];
+        add3(q, p, t, NULL, NULL);
+        curve_box(c, q, a, nb2, nre);
+        for (int k = 0; k < 3; k++) t[k] = a[k] - da[k] + b2[k] + e[k] - de[k];
+        add3(q, p, t, NULL, NULL);
+        curve_box(c, q, ne, nra, rb);
+        for (int k = 0; k < 3; k++) t[k] = a[k] - da[k] + b2[k] - db[k];
+        add3(q, p, t, NULL, NULL);
+        curve_box(c, q, nb2, e2, nra);
+    }
+}
+
+/* order[] of the blocks along the curve, starting with the longest axis. */
+static void curve_order(const int m[3], uint32_t *order)
+{
+    curve c = {{m[0], m[1], m[2]}, order, 0};
+    const size_t n = (size_t)m[0] * (size_t)m[1] * (size_t)m[2];
+    for (size_t u = 0; u < n; u++) order[u] = UINT32_MAX;
+    const int o[3] = {0, 0, 0}, X[3] = {m[0], 0, 0}, Y[3] = {0, m[1], 0}, Z[3] = {0, 0, m[2]};
+    if (m[0] >= m[1] && m[0] >= m[2]) curve_box(&c, o, X, Y, Z);
+    else if (m[1] >= m[0] && m[1] >= m[2]) curve_box(&c, o, Y, X, Z);
+    else curve_box(&c, o, Z, X, Y);
+    int ok = c.next == n;
+    for (size_t u = 0; u < n && ok; u++) ok = order[u] < n;
+    if (!ok) sl_fatal("neighbour grid: the block order is not a permutation (internal error)");
+}
+
+/* Rows of cells along x stay contiguous (so that the three cells of a
+ * neighbourhood row form one particle range); the rows are ordered by the
+ * Morton code of (cy, cz). */
+static void order_rows(nbr_grid *g)
+{
+    size_t nrows = (size_t)g->nc[1] * (size_t)g->nc[2];
+    cell_key *keys = sl_malloc(nrows * sizeof *keys, "grid row order");
+    for (int cz = 0; cz < g->nc[2]; cz++)
+        for (int cy = 0; cy < g->nc[1]; cy++) {
+            size_t row = (size_t)cy + (size_t)g->nc[1] * (size_t)cz;
+            keys[row].linear = (uint32_t)row;
+            keys[row].morton =
+                sl_morton_spread3((uint64_t)cy) | sl_morton_spread3((uint64_t)cz) << 1;
+        }
+    qsort(keys, nrows, sizeof *keys, cmp_cell_key);
+    for (size_t k = 0; k < nrows; k++)
+        for (int cx = 0; cx < g->nc[0]; cx++)
+            g->rank[(size_t)cx + (size_t)g->nc[0] * keys[k].linear] =
+                (uint32_t)(k * (size_t)g->nc[0] + (size_t)cx);
+    free(keys);
+}
+
+/* Blocks of B^3 cells along the curve (a run of blocks is a compact
+ * region, so a rank's own cells have a small surface), the cells inside a
+ * block x fastest (an x-row of cells inside a block is one range). */
+static void order_blocks(nbr_grid *g)
+{
+    const int B = g->unit[0];
+    const int m[3] = {g->nc[0] / B, g->nc[1] / B, g->nc[2] / B};
+    uint32_t *order = sl_malloc(g->nunits * sizeof *order, "grid block order");
+    curve_order(m, order);
+    for (int cz = 0; cz < g->nc[2]; cz++)
+        for (int cy = 0; cy < g->nc[1]; cy++)
+            for (int cx = 0; cx < g->nc[0]; cx++) {
+                const size_t u = (size_t)(cx / B) +
+                    (size_t)m[0] * ((size_t)(cy / B) + (size_t)m[1] * (size_t)(cz / B));
+                const int in = cx % B + B * (cy % B + B * (cz % B));
+                g->rank[(size_t)cx + (size_t)g->nc[0] * ((size_t)cy + (size_t)g->nc[1] * cz)] =
+                    (uint32_t)((size_t)order[u] * g->ucells + (size_t)in);
+            }
+    free(order);
 }
 
 void nbr_grid_init(nbr_grid *g, const double lo[3], const double hi[3], double h, size_t max_cells)
@@ -52,25 +224,24 @@ void nbr_grid_init(nbr_grid *g, const double lo[3], const double hi[3], double h
     g->inv_cell = 1.0 / cell;
     g->reach = (int)ceil(h / cell - 1e-9);
     g->h2 = h * h;
-    /* Rows of cells along x stay contiguous (so that the three cells of a
-     * neighbourhood row form one particle range); the rows are ordered by
-     * the Morton code of (cy, cz). */
-    size_t nrows = (size_t)g->nc[1] * (size_t)g->nc[2];
-    cell_key *keys = sl_malloc(nrows * sizeof *keys, "grid row order");
-    for (int cz = 0; cz < g->nc[2]; cz++)
-        for (int cy = 0; cy < g->nc[1]; cy++) {
-            size_t row = (size_t)cy + (size_t)g->nc[1] * (size_t)cz;
-            keys[row].linear = (uint32_t)row;
-            keys[row].morton =
-                sl_morton_spread3((uint64_t)cy) | sl_morton_spread3((uint64_t)cz) << 1;
+    const int B = nbr_unit_setting();
+    if (B) { /* whole blocks: the cells past hi are empty (clamping stays 1-Lipschitz) */
+        g->ncells = 1;
+        for (int d = 0; d < 3; d++) {
+            g->nc[d] = (g->nc[d] + B - 1) / B * B;
+            g->unit[d] = B;
+            g->ncells *= (size_t)g->nc[d];
         }
-    qsort(keys, nrows, sizeof *keys, cmp_cell_key);
+        if (g->ncells > UINT32_MAX - 1) sl_fatal("neighbour grid: %zu cells", g->ncells);
+    } else {
+        g->unit[0] = g->nc[0];
+        g->unit[1] = g->unit[2] = 1;
+    }
+    g->ucells = (size_t)g->unit[0] * (size_t)g->unit[1] * (size_t)g->unit[2];
+    g->nunits = g->ncells / g->ucells;
     g->rank = sl_alloc_aligned(g->ncells * sizeof *g->rank, "grid ranks");
-    for (size_t k = 0; k < nrows; k++)
-        for (int cx = 0; cx < g->nc[0]; cx++)
-            g->rank[(size_t)cx + (size_t)g->nc[0] * keys[k].linear] =
-                (uint32_t)(k * (size_t)g->nc[0] + (size_t)cx);
-    free(keys);
+    if (B) order_blocks(g);
+    else order_rows(g);
     g->fstart = sl_alloc_aligned((g->ncells + 1) * sizeof *g->fstart, "grid cells");
     g->bstart = sl_alloc_aligned((g->ncells + 1) * sizeof *g->bstart, "grid cells");
     g->count = sl_alloc_aligned((g->ncells + 1) * sizeof *g->count, "grid cells");
@@ -344,7 +515,9 @@ static inline size_t filter_range(uint32_t *restrict buf, size_t len, uint32_t j
 
 /* The candidate ranges around one cell: the cells of each neighbourhood
  * row along x are one contiguous range of a sorted set. */
-#define NBR_MAX_ROWS 25 /* (2 reach + 1)^2 for reach <= 2 */
+/* (2 reach + 1)^2 rows for reach <= 2, each cut into at most 3 ranges by
+ * the units along x (blocks of 2 or more cells) */
+#define NBR_MAX_ROWS 75
 _Static_assert(NBR_CELLS_PER_H <= 2, "NBR_MAX_ROWS assumes reach <= 2");
 
 typedef struct cell_rows {
@@ -367,13 +540,21 @@ static inline void rows_of(const nbr_grid *g, double px, double py, double pz, c
     const int x0 = c[0] > R ? c[0] - R : 0, x1 = c[0] + R < g->nc[0] ? c[0] + R : g->nc[0] - 1;
     const int y0 = c[1] > R ? c[1] - R : 0, y1 = c[1] + R < g->nc[1] ? c[1] + R : g->nc[1] - 1;
     const int z0 = c[2] > R ? c[2] - R : 0, z1 = c[2] + R < g->nc[2] ? c[2] + R : g->nc[2] - 1;
+    const int ux = g->unit[0];
     for (int cz = z0; cz <= z1; cz++)
-        for (int cy = y0; cy <= y1; cy++) {
-            int a[3] = {x0, cy, cz}, e[3] = {x1, cy, cz};
-            r->ka[r->n] = rank_of(g, a);
-            r->ke[r->n] = rank_of(g, e) + 1;
-            r->n++;
-        }
+        for (int cy = y0; cy <= y1; cy++)
+            for (int xa = x0; xa <= x1;) { /* one range per unit the row crosses */
+                const int xe = (xa / ux + 1) * ux - 1 < x1 ? (xa / ux + 1) * ux - 1 : x1;
+                int a[3] = {xa, cy, cz}, e[3] = {xe, cy, cz};
+                const uint32_t ka = rank_of(g, a), ke = rank_of(g, e) + 1;
+                if (r->n && r->ke[r->n - 1] == ka) r->ke[r->n - 1] = ke; /* adjacent: one */
+                else {
+                    r->ka[r->n] = ka;
+                    r->ke[r->n] = ke;
+                    r->n++;
+                }
+                xa = xe + 1;
+            }
 }
 
 /* A target set of a list: its cell starts and positions; `same` when it

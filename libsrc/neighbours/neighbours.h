@@ -2,9 +2,17 @@
  * neighbours: uniform-grid neighbour search (paper Sec. 3.4).
  *
  * The grid covers the scene's bounding box (fixed at set-up).  Cells are
- * numbered row by row along x, rows in Z-order (Morton order of (y, z)),
- * and particles are kept sorted by that number: particles close in space
- * are close in memory, and the cells of a row form one contiguous range.  A particle
+ * grouped into units, each a contiguous range of the cell numbering, and
+ * particles are kept sorted by that number: particles close in space are
+ * close in memory.  SLUICE_GRID_UNIT chooses the units (nbr_unit_setting):
+ * `row` (the default) whole x-rows of cells, the rows in Z-order (Morton
+ * order of (y, z)); `block` (or `block:N`, N = 2..16 cells a side; `block`
+ * is 4) cubes of cells, the blocks along the generalised Hilbert curve
+ * of the box of blocks (a compact region per run of blocks), the cells
+ * inside a block x fastest, the grid padded to whole blocks.  Either way a unit is a run of the sorted array, so a
+ * run of units is one too (the domain decomposition's ranks own runs of
+ * units: solver/pcs_domain.h), and the cells of one x-row inside a unit
+ * form one contiguous range.  A particle
  * outside the box is clamped into the nearest border cell: clamping is
  * 1-Lipschitz on cell coordinates, so two particles closer than h still sit
  * in the same or adjacent cells and no neighbour is ever lost (only speed
@@ -37,8 +45,10 @@ typedef struct nbr_grid {
     double cell, inv_cell; /* cell size (h / NBR_CELLS_PER_H, larger for huge scenes) */
     int reach;             /* cells searched each way: ceil(h / cell) */
     double h2;             /* squared search radius */
-    int nc[3];
+    int nc[3];             /* cells along x, y, z (block units: whole blocks) */
     size_t ncells;
+    int unit[3];            /* cells of a unit along x, y, z (rows: nc[0], 1, 1) */
+    size_t ucells, nunits;  /* cells per unit, units (ncells = nunits ucells) */
     uint32_t *rank;         /* rank[linear cell] = position in Z-order */
     uint32_t *fstart;       /* fluid particles of rank k: [fstart[k], fstart[k+1]) */
     uint32_t *bstart;       /* boundary particles, likewise */
@@ -69,8 +79,14 @@ typedef struct nbr_list {
 } nbr_list;
 
 /* Set up a grid over [lo, hi] with search radius h; the cell size is h
- * unless that would need more than max_cells cells, in which case it grows. */
+ * unless that would need more than max_cells cells, in which case it grows.
+ * Its units are those of nbr_unit_setting(). */
 void nbr_grid_init(nbr_grid *g, const double lo[3], const double hi[3], double h, size_t max_cells);
+/* The units SLUICE_GRID_UNIT asks for: 0 rows, else a block's cells a side
+ * (a bad value stops the run with a message). */
+int nbr_unit_setting(void);
+/* "row" or "block:N" (the setting's spelling), for logs. */
+const char *nbr_unit_name(const nbr_grid *g, char *buf, size_t len);
 void nbr_grid_free(nbr_grid *g);
 
 /* Sort the boundary particles by cell (once, at set-up) and fill bstart. */

@@ -22,13 +22,18 @@
 #define REC_OUT 10
 
 struct pcs_domain {
-    size_t nrows, nx; /* rows of cells along x, in Morton order of (y, z); cells per row */
-    int ny, nz, depth;
-    int *ry, *rz;                    /* (cy, cz) of row k */
-    uint32_t *kof;                   /* row of (cy, cz): kof[cy + ny cz] */
-    size_t *cut;                     /* rank r owns rows [cut[r], cut[r+1]) */
-    int *owner;                      /* of each row */
-    uint32_t *nstart, *nrank, *mark; /* ranks whose halo holds row k: nrank[nstart[k]..) */
+    /* Ownership is by unit of the grid (neighbours.h: whole x-rows of cells,
+     * or blocks), the halo by piece: the whole row (a row's cells are
+     * within one cell of the same rows), or with blocks the cell.  Units
+     * and pieces are runs of the cell numbering, a unit whole pieces. */
+    size_t nunits, ucells;           /* units, cells per unit */
+    size_t npieces, pcells, upieces; /* pieces, cells per piece, pieces per unit */
+    int pn[3], depth;                /* the pieces' grid (rows: 1, ny, nz) */
+    uint32_t *plin;                  /* piece k's index in that grid */
+    uint32_t *kof;                   /* the piece of an index of that grid */
+    size_t *cut;                     /* rank r owns units [cut[r], cut[r+1]) */
+    int *owner;                      /* of each piece */
+    uint32_t *nstart, *nrank, *mark; /* ranks whose halo holds piece k: nrank[nstart[k]..) */
     size_t nrank_cap;
     long *rowcount, *cnt_p, *all_n, *all_s;
     double threshold, imb_after;
@@ -130,9 +135,10 @@ static int as_int(size_t v)
     return (int)v;
 }
 
+/* The piece of a point (the halo's and the owners' unit of account). */
 static size_t row_of(const pcs_solver *s, const struct pcs_domain *d, double x, double y, double z)
 {
-    return nbr_cell_rank(&s->grid, x, y, z) / d->nx;
+    return nbr_cell_rank(&s->grid, x, y, z) / d->pcells;
 }
 
 static void pack(const sl_fluid *f, size_t i, double *o)
@@ -259,61 +265,83 @@ static int cmp_u32(const void *a, const void *b)
 
 /* ---- cuts ---- */
 
-/* The ranks whose halo holds each row: the rows within `depth` cells in
- * y and z of one of their own rows (not their own). */
+/* The pieces within `depth` cells of piece k (in the pieces' grid: rows
+ * span x), each given to fn with the context. */
+static void near_pieces(struct pcs_domain *d, size_t k, int depth,
+                        void (*fn)(struct pcs_domain *, uint32_t, void *), void *ctx)
+{
+    const size_t l = d->plin[k], n0 = (size_t)d->pn[0], n01 = n0 * (size_t)d->pn[1];
+    const int c[3] = {(int)(l % n0), (int)(l % n01 / n0), (int)(l / n01)};
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; a++) {
+        lo[a] = c[a] - depth > 0 ? c[a] - depth : 0;
+        hi[a] = c[a] + depth < d->pn[a] - 1 ? c[a] + depth : d->pn[a] - 1;
+    }
+    for (int z = lo[2]; z <= hi[2]; z++)
+        for (int y = lo[1]; y <= hi[1]; y++)
+            for (int x = lo[0]; x <= hi[0]; x++)
+                fn(d, d->kof[(size_t)x + n0 * (size_t)y + n01 * (size_t)z], ctx);
+}
+
+typedef struct need_pass {
+    int pass, q;
+    uint32_t st;
+} need_pass;
+
+static void need_one(struct pcs_domain *d, uint32_t k2, void *ctx)
+{
+    const need_pass *np = ctx;
+    if (d->owner[k2] == np->q || d->mark[k2] == np->st) return;
+    d->mark[k2] = np->st;
+    if (np->pass == 0) d->nstart[k2 + 1]++;
+    else d->nrank[d->nstart[k2]++] = (uint32_t)np->q;
+}
+
+/* The ranks whose halo holds each piece: the pieces within `depth` cells
+ * of one of their own (not their own). */
 static void build_need(struct pcs_domain *d, int p)
 {
-    const int D = d->depth;
-    memset(d->nstart, 0, (d->nrows + 1) * sizeof *d->nstart);
-    memset(d->mark, 0, d->nrows * sizeof *d->mark);
+    memset(d->nstart, 0, (d->npieces + 1) * sizeof *d->nstart);
+    memset(d->mark, 0, d->npieces * sizeof *d->mark);
     for (int pass = 0; pass < 2; pass++) {
         for (int q = 0; q < p; q++) {
-            const uint32_t st = (uint32_t)(pass * p + q + 1);
-            for (size_t k = d->cut[q]; k < d->cut[q + 1]; k++)
-                for (int dz = -D; dz <= D; dz++)
-                    for (int dy = -D; dy <= D; dy++) {
-                        const int cy = d->ry[k] + dy, cz = d->rz[k] + dz;
-                        if (cy < 0 || cz < 0 || cy >= d->ny || cz >= d->nz) continue;
-                        const uint32_t k2 = d->kof[(size_t)cy + (size_t)d->ny * (size_t)cz];
-                        if (d->owner[k2] == q || d->mark[k2] == st) continue;
-                        d->mark[k2] = st;
-                        if (pass == 0) d->nstart[k2 + 1]++;
-                        else d->nrank[d->nstart[k2]++] = (uint32_t)q;
-                    }
+            need_pass np = {pass, q, (uint32_t)(pass * p + q + 1)};
+            for (size_t k = d->cut[q] * d->upieces; k < d->cut[q + 1] * d->upieces; k++)
+                near_pieces(d, k, d->depth, need_one, &np);
         }
         if (pass == 0) {
-            for (size_t k = 0; k < d->nrows; k++) d->nstart[k + 1] += d->nstart[k];
-            d->nrank = grow(d->nrank, &d->nrank_cap, d->nstart[d->nrows] + 1, sizeof *d->nrank,
-                            "halo rows");
+            for (size_t k = 0; k < d->npieces; k++) d->nstart[k + 1] += d->nstart[k];
+            d->nrank = grow(d->nrank, &d->nrank_cap, d->nstart[d->npieces] + 1, sizeof *d->nrank,
+                            "halo pieces");
         }
     }
-    /* the fill advanced each start to the next row's: shift back */
-    for (size_t k = d->nrows; k > 0; k--) d->nstart[k] = d->nstart[k - 1];
+    /* the fill advanced each start to the next piece's: shift back */
+    for (size_t k = d->npieces; k > 0; k--) d->nstart[k] = d->nstart[k - 1];
     d->nstart[0] = 0;
 }
 
-/* Cuts from the fluid count of each row: rank r's first row is where the
- * running count comes nearest r N / P. */
+/* Cuts from the fluid count of each unit: rank r's first unit is where
+ * the running count comes nearest r N / P. */
 static double set_cuts(struct pcs_domain *d, const long *cnt, int p)
 {
     long total = 0;
-    for (size_t k = 0; k < d->nrows; k++) total += cnt[k];
+    for (size_t k = 0; k < d->nunits; k++) total += cnt[k];
     size_t k = 0;
     long acc = 0;
     d->cut[0] = 0;
     for (int r = 1; r < p; r++) {
         const long target = (long)((long long)total * r / p);
-        while (k < d->nrows && acc + cnt[k] <= target) acc += cnt[k++];
-        if (k < d->nrows && acc < target && acc + cnt[k] - target < target - acc) acc += cnt[k++];
+        while (k < d->nunits && acc + cnt[k] <= target) acc += cnt[k++];
+        if (k < d->nunits && acc < target && acc + cnt[k] - target < target - acc) acc += cnt[k++];
         d->cut[r] = k;
     }
-    d->cut[p] = d->nrows;
+    d->cut[p] = d->nunits;
     long big = 0;
     for (int r = 0; r < p; r++) {
         long sum = 0;
         for (size_t q = d->cut[r]; q < d->cut[r + 1]; q++) {
             sum += cnt[q];
-            d->owner[q] = r;
+            for (size_t c = q * d->upieces; c < (q + 1) * d->upieces; c++) d->owner[c] = r;
         }
         big = sum > big ? sum : big;
     }
@@ -323,8 +351,8 @@ static double set_cuts(struct pcs_domain *d, const long *cnt, int p)
 
 /* ---- boundary particles by cell ---- */
 
-/* The first cell of rank r's rows (cells are numbered row by row). */
-static size_t first_cell(const struct pcs_domain *d, int r) { return d->cut[r] * d->nx; }
+/* The first cell of rank r's units (a unit is a run of cells). */
+static size_t first_cell(const struct pcs_domain *d, int r) { return d->cut[r] * d->ucells; }
 
 /* Whether boundary particle `id` is one of this rank's own. */
 static int own_boundary(const struct pcs_domain *d, uint32_t id)
@@ -514,29 +542,30 @@ static int halo_depth(const pcs_solver *s) { return halo_depth_of(s->eff, s->gri
 static struct pcs_domain *domain_new(const nbr_grid *g, int p, int depth)
 {
     struct pcs_domain *d = sl_calloc(1, sizeof *d, "domain decomposition");
-    d->nx = (size_t)g->nc[0];
-    d->ny = g->nc[1];
-    d->nz = g->nc[2];
-    d->nrows = (size_t)d->ny * (size_t)d->nz;
+    const int rows = g->unit[0] == g->nc[0] && g->unit[1] == 1 && g->unit[2] == 1;
+    d->nunits = g->nunits;
+    d->ucells = g->ucells;
+    d->pcells = rows ? (size_t)g->nc[0] : 1;
+    d->npieces = g->ncells / d->pcells;
+    d->upieces = d->ucells / d->pcells;
+    d->pn[0] = rows ? 1 : g->nc[0];
+    d->pn[1] = g->nc[1];
+    d->pn[2] = g->nc[2];
     d->depth = depth;
-    d->ry = sl_malloc(d->nrows * sizeof *d->ry, "grid rows");
-    d->rz = sl_malloc(d->nrows * sizeof *d->rz, "grid rows");
-    d->kof = sl_malloc(d->nrows * sizeof *d->kof, "grid rows");
-    for (int cz = 0; cz < d->nz; cz++)
-        for (int cy = 0; cy < d->ny; cy++) {
-            const size_t lin = (size_t)cy + (size_t)d->ny * (size_t)cz;
-            const uint32_t k = (uint32_t)(g->rank[d->nx * lin] / d->nx);
-            d->kof[lin] = k;
-            d->ry[k] = cy;
-            d->rz[k] = cz;
-        }
+    d->plin = sl_malloc(d->npieces * sizeof *d->plin, "grid pieces");
+    d->kof = sl_malloc(d->npieces * sizeof *d->kof, "grid pieces");
+    for (size_t lin = 0; lin < d->npieces; lin++) {
+        const uint32_t k = (uint32_t)(g->rank[d->pcells * lin] / d->pcells);
+        d->kof[lin] = k;
+        d->plin[k] = (uint32_t)lin;
+    }
     d->cut = sl_malloc(((size_t)p + 1) * sizeof *d->cut, "rank cuts");
     d->goff = sl_calloc((size_t)p + 1, sizeof *d->goff, "rank rows");
     d->boff = sl_calloc((size_t)p + 1, sizeof *d->boff, "rank rows");
-    d->owner = sl_malloc(d->nrows * sizeof *d->owner, "row owners");
-    d->nstart = sl_malloc((d->nrows + 1) * sizeof *d->nstart, "halo rows");
-    d->mark = sl_malloc(d->nrows * sizeof *d->mark, "halo rows");
-    d->rowcount = sl_calloc(d->nrows, sizeof *d->rowcount, "row counts");
+    d->owner = sl_malloc(d->npieces * sizeof *d->owner, "piece owners");
+    d->nstart = sl_malloc((d->npieces + 1) * sizeof *d->nstart, "halo pieces");
+    d->mark = sl_malloc(d->npieces * sizeof *d->mark, "halo pieces");
+    d->rowcount = sl_calloc(d->nunits, sizeof *d->rowcount, "unit counts");
     d->cnt_p = sl_calloc((size_t)p, sizeof *d->cnt_p, "rank counts");
     d->all_n = sl_calloc((size_t)p, sizeof *d->all_n, "rank counts");
     d->all_s = sl_calloc((size_t)p, sizeof *d->all_s, "rank counts");
@@ -561,7 +590,8 @@ void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t
     struct pcs_domain *d = domain_new(&s->grid, p, halo_depth(s));
     const sl_fluid *f = s->f;
     const sl_boundary *b = s->b;
-    for (size_t i = 0; i < f->n; i++) d->rowcount[row_of(s, d, f->x[i], f->y[i], f->z[i])]++;
+    for (size_t i = 0; i < f->n; i++)
+        d->rowcount[row_of(s, d, f->x[i], f->y[i], f->z[i]) / d->upieces]++;
     set_cuts(d, d->rowcount, p);
     for (int r = 0; r < p; r++) stored[r] = halo[r] = bstored[r] = 0;
     for (size_t i = 0; i < f->n; i++) {
@@ -613,12 +643,18 @@ pcd_plan *pcd_plan_new(const pcs_params *prm, const eff_set *eff, const double l
 
 static size_t plan_row(const pcd_plan *pl, double x, double y, double z)
 {
-    return nbr_cell_rank(&pl->grid, x, y, z) / pl->d->nx;
+    return nbr_cell_rank(&pl->grid, x, y, z) / pl->d->pcells;
 }
 
 void pcd_plan_count(pcd_plan *pl, double x, double y, double z)
 {
-    pl->d->rowcount[plan_row(pl, x, y, z)]++;
+    pl->d->rowcount[plan_row(pl, x, y, z) / pl->d->upieces]++;
+}
+
+static void need_mark(struct pcs_domain *d, uint32_t k, void *ctx)
+{
+    (void)d;
+    ((unsigned char *)ctx)[k] = 1;
 }
 
 /* The cuts from the counts (every rank counted the whole case alike), and
@@ -630,14 +666,9 @@ void pcd_plan_cut(pcd_plan *pl)
     struct pcs_domain *d = pl->d;
     d->imb_after = set_cuts(d, d->rowcount, pl->p);
     const int R = d->depth + 2 * pl->reach;
-    pl->need = sl_calloc(d->nrows + 1, 1, "set-up rows");
-    for (size_t k = d->cut[pl->me]; k < d->cut[pl->me + 1]; k++)
-        for (int dz = -R; dz <= R; dz++)
-            for (int dy = -R; dy <= R; dy++) {
-                const int cy = d->ry[k] + dy, cz = d->rz[k] + dz;
-                if (cy < 0 || cz < 0 || cy >= d->ny || cz >= d->nz) continue;
-                pl->need[d->kof[(size_t)cy + (size_t)d->ny * (size_t)cz]] = 1;
-            }
+    pl->need = sl_calloc(d->npieces + 1, 1, "set-up pieces");
+    for (size_t k = d->cut[pl->me] * d->upieces; k < d->cut[pl->me + 1] * d->upieces; k++)
+        near_pieces(d, k, R, need_mark, pl->need);
 }
 
 int pcd_plan_fluid(const pcd_plan *pl, double x, double y, double z)
@@ -712,7 +743,8 @@ void pcd_init(pcs_solver *s, pcd_plan *plan)
     d->setup_boundary = s->b->n;
     d->parts = plan != NULL;
     if (!plan) { /* every rank holds every particle: the same cuts everywhere */
-        for (size_t i = 0; i < f->n; i++) d->rowcount[row_of(s, d, f->x[i], f->y[i], f->z[i])]++;
+        for (size_t i = 0; i < f->n; i++)
+            d->rowcount[row_of(s, d, f->x[i], f->y[i], f->z[i]) / d->upieces]++;
         d->imb_after = set_cuts(d, d->rowcount, p);
     } /* else the plan's cuts, from the counts of the whole case */
     size_t j = 0;
@@ -751,8 +783,7 @@ void pcd_free(pcs_solver *s)
 
 static void domain_free(struct pcs_domain *d)
 {
-    free(d->ry), free(d->rz), free(d->kof), free(d->cut), free(d->goff), free(d->boff),
-        free(d->owner);
+    free(d->plin), free(d->kof), free(d->cut), free(d->goff), free(d->boff), free(d->owner);
     free(d->nstart), free(d->mark), free(d->rowcount), free(d->cnt_p), free(d->all_n);
     free(d->all_s);
     sl_free_aligned(d->nrank);
@@ -903,9 +934,9 @@ void pcd_distribute(pcs_solver *s)
     int recut = 0;
     if (imb > 1.0 + d->threshold && imb > d->imb_after + 0.5 * d->threshold) {
         /* rebalance: the cuts again from the global counts per row */
-        memset(d->rowcount, 0, d->nrows * sizeof *d->rowcount);
-        for (size_t i = 0; i < f->n; i++) d->rowcount[f->cell[i]]++;
-        par_sum_longs(d->rowcount, d->nrows);
+        memset(d->rowcount, 0, d->nunits * sizeof *d->rowcount);
+        for (size_t i = 0; i < f->n; i++) d->rowcount[f->cell[i] / d->upieces]++;
+        par_sum_longs(d->rowcount, d->nunits);
         d->imb_after = set_cuts(d, d->rowcount, p);
         destinations(d, f, d->dest, d->cnt_p, p);
         d->c.rebalances++;
@@ -931,12 +962,12 @@ static void boundary_lists(const pcs_solver *s, struct pcs_domain *d)
 {
     const nbr_grid *g = &s->grid;
     const int p = s->split.size, me = s->split.rank;
-    const size_t nx = d->nx;
+    const size_t pc = d->pcells;
     for (int pass = 0; pass < 2; pass++) {
         memset(d->bscnt, 0, (size_t)p * sizeof *d->bscnt);
         memset(d->brcnt, 0, (size_t)p * sizeof *d->brcnt);
-        for (size_t k = 0; k < d->nrows; k++) {
-            const uint32_t b0 = g->bstart[k * nx], b1 = g->bstart[(k + 1) * nx];
+        for (size_t k = 0; k < d->npieces; k++) {
+            const uint32_t b0 = g->bstart[k * pc], b1 = g->bstart[(k + 1) * pc];
             if (b1 == b0) continue;
             const int own = d->owner[k];
             for (uint32_t q = d->nstart[k]; q < d->nstart[k + 1]; q++) {
@@ -1024,7 +1055,7 @@ void pcd_after_search(pcs_solver *s)
     for (size_t i = 0; i < n; i++) d->inv[g->perm[i]] = (uint32_t)i;
     for (size_t k = 0; k < d->nsend; k++) d->send_idx[k] = d->inv[d->send_idx[k]];
     for (size_t k = 0; k < d->nrecv; k++) d->recv_idx[k] = d->inv[d->recv_idx[k]];
-    const size_t c0cell = d->cut[me] * d->nx, c1cell = d->cut[me + 1] * d->nx;
+    const size_t c0cell = first_cell(d, me), c1cell = first_cell(d, me + 1);
     d->lo = g->fstart[c0cell];
     d->hi = g->fstart[c1cell];
     if (d->hi - d->lo != d->nown)

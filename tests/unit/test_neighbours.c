@@ -1,6 +1,8 @@
 /* Unit tests: grid neighbour search against brute force, Z-order sorting,
  * clamping of particles outside the grid, identical lists for any
- * thread count and an order that does not depend on the input order. */
+ * thread count and an order that does not depend on the input order; the
+ * same lists with the grid's block units (SLUICE_GRID_UNIT), whose cell
+ * numbering is a permutation with each block one run of it. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -245,6 +247,63 @@ static void test_order_independent_of_input_order(void **state)
     free_world(&w);
 }
 
+/* Blocks of 4, 2 and 3 cells a side (odd: the curve's diagonal steps):
+ * the cell ranks a permutation, a block's cells one run of ucells ranks,
+ * the grid whole blocks, and the lists the brute force's. */
+static void test_block_units(void **state)
+{
+    (void)state;
+    const char *units[] = {"block", "block:2", "block:3"};
+    const int edge[] = {4, 2, 3};
+    for (int u = 0; u < 3; u++) {
+        setenv("SLUICE_GRID_UNIT", units[u], 1);
+        world w;
+        make_world(&w);
+        unsetenv("SLUICE_GRID_UNIT");
+        const nbr_grid *g = &w.g;
+        const int B = edge[u];
+        assert_int_equal(g->unit[0], B);
+        assert_int_equal(g->ucells, (size_t)(B * B * B));
+        for (int d = 0; d < 3; d++) assert_int_equal(g->nc[d] % B, 0);
+        assert_int_equal(g->nunits * g->ucells, g->ncells);
+        unsigned char *seen = calloc(g->ncells, 1);
+        uint32_t *first = malloc(g->nunits * sizeof *first);
+        for (size_t k = 0; k < g->nunits; k++) first[k] = UINT32_MAX;
+        for (int cz = 0; cz < g->nc[2]; cz++)
+            for (int cy = 0; cy < g->nc[1]; cy++)
+                for (int cx = 0; cx < g->nc[0]; cx++) {
+                    const uint32_t r =
+                        g->rank[cx + g->nc[0] * (cy + (size_t)g->nc[1] * (size_t)cz)];
+                    assert_true(r < g->ncells && !seen[r]);
+                    seen[r] = 1;
+                    /* the cell's place in its block, x fastest */
+                    assert_int_equal(r % g->ucells, cx % B + B * (cy % B + B * (cz % B)));
+                    /* the same block for every cell of the block */
+                    const size_t k = r / g->ucells;
+                    const uint32_t corner =
+                        (uint32_t)(cx / B + g->nc[0] / B * (cy / B + g->nc[1] / B * (cz / B)));
+                    if (first[k] == UINT32_MAX) first[k] = corner;
+                    assert_int_equal(first[k], corner);
+                }
+        free(seen);
+        free(first);
+        nbr_list ff, fb;
+        nbr_list_init(&ff);
+        nbr_list_init(&fb);
+        nbr_build_ff(g, &w.f, &ff);
+        nbr_build_fb(g, &w.f, &w.b, &fb);
+        for (size_t i = 1; i < w.f.n; i++) assert_true(w.f.cell[i] >= w.f.cell[i - 1]);
+        for (size_t i = 0; i < w.f.n; i++) {
+            double p[3] = {w.f.x[i], w.f.y[i], w.f.z[i]};
+            check_row(&ff, i, p, w.f.x, w.f.y, w.f.z, w.f.n, w.h, i);
+            check_row(&fb, i, p, w.b.x, w.b.y, w.b.z, w.b.n, w.h, SIZE_MAX);
+        }
+        nbr_list_free(&ff);
+        nbr_list_free(&fb);
+        free_world(&w);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -255,6 +314,7 @@ int main(void)
         cmocka_unit_test(test_combined_build),
         cmocka_unit_test(test_transpose),
         cmocka_unit_test(test_order_independent_of_input_order),
+        cmocka_unit_test(test_block_units),
     };
     return cmocka_run_group_tests_name("neighbours", tests, NULL, NULL);
 }

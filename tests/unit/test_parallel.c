@@ -590,6 +590,85 @@ static void test_relaxed_packing(void **state)
     same_output("parRelaxChannelSerial", "parRelaxChannel2");
 }
 
+/* The grid's block units (SLUICE_GRID_UNIT=block: blocks of 4x4x4 cells
+ * along the generalised Hilbert curve, neighbours.h; ranks own runs of
+ * blocks, the halo is the cells within one cell of the own ones): the
+ * serial run with the same units (another particle order than the rows')
+ * written byte for byte by np 2 and 3 and 2 ranks x 2 threads on the dam
+ * break with every function object, with the two-cell halo, with
+ * rebalancing and migration both ways (np 3, threshold 0.2 %), by restart
+ * files of 2 ranks continued on 3, and on the rocking tank (moving walls
+ * carried across the blocks) on 3 ranks. */
+static void test_block_units(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    setenv("SLUICE_GRID_UNIT", "block", 1);
+    char threads[1024], cmd[2048];
+    snprintf(threads, sizeof threads,
+             "%s && sed -i 's/^numberOfThreads .*/numberOfThreads 2;/' system/controlDict", dam);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parBlkSerial", dam, 0), 0);
+    assert_int_equal(system("grep -q 'units block:4' tests/output/parBlkSerial/log.pcisph && "
+                            "! cmp -s tests/output/parBlkSerial/0.04/fluid.vtu "
+                            "tests/output/parDamSerial/0.04/fluid.vtu"),
+                     0);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parBlk2", dam, 2), 0);
+    same_output("parBlkSerial", "parBlk2");
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parBlk3", dam, 3), 0);
+    same_output("parBlkSerial", "parBlk3");
+    assert_int_equal(setup_in_parts("tests/output/parBlk3/log.pcisph", 3, 1), 0);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parBlk2x2", threads, 2), 0);
+    same_output("parBlkSerial", "parBlk2x2");
+    setenv("SLUICE_PARALLEL_HALO_DEPTH", "2", 1);
+    int rc = run_np("tests/cases/damBreakShort", "parBlkDepth2", dam, 2);
+    unsetenv("SLUICE_PARALLEL_HALO_DEPTH");
+    assert_int_equal(rc, 0);
+    same_output("parBlkSerial", "parBlkDepth2");
+    /* rebalancing: the cuts between runs of blocks moved */
+    const char *migrate = "sed -i 's/^endTime .*/endTime 0.06;/; s/^writeInterval "
+                          ".*/writeInterval 0.03;/; s/^numberOfThreads .*/numberOfThreads 1;/' "
+                          "system/controlDict";
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parBlkMigSerial", migrate, 0), 0);
+    setenv("SLUICE_PARALLEL_REBALANCE", "0.002", 1);
+    rc = run_np("tests/cases/damBreakShort", "parBlkMig3", migrate, 3);
+    unsetenv("SLUICE_PARALLEL_REBALANCE");
+    assert_int_equal(rc, 0);
+    same_output("parBlkMigSerial", "parBlkMig3");
+    assert_int_equal(system("grep -Eq 'parallel: [1-9][0-9]* rebalances' "
+                            "tests/output/parBlkMig3/log.pcisph && grep -Eq 'changed rank between "
+                            "searches: [1-9][0-9]* to a higher rank, [1-9][0-9]* to a lower' "
+                            "tests/output/parBlkMig3/log.pcisph"),
+                     0);
+    /* restart files of 2 ranks continued on 3 */
+    const char *first = "sed -i 's/^endTime .*/endTime 0.02;/; s/^writeInterval .*/writeInterval "
+                        "0.02;/; s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict";
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parBlkRestart", first, 2), 0);
+    snprintf(cmd, sizeof cmd,
+             "cd tests/output/parBlkRestart && sed -i 's/^endTime .*/endTime 0.04;/; "
+             "s/^startFrom .*/startFrom latestTime;/' system/controlDict && " MPIRUN
+             "-np 3 %s/pcisph -case . -quiet -parallel > log.restart 2>&1 && grep -q 'Restarting "
+             "from' log.restart && cd .. && cmp parBlkSerial/0.04/fluid.vtu "
+             "parBlkRestart/0.04/fluid.vtu && cmp parBlkSerial/0.04/boundary.vtu "
+             "parBlkRestart/0.04/boundary.vtu",
+             bin_dir());
+    assert_int_equal(system(cmd), 0);
+    assert_int_equal(setup_in_parts("tests/output/parBlkRestart/log.restart", 3, 1), 0);
+    /* moving walls */
+    const char *slosh = "sed -i 's/^endTime .*/endTime 0.3;/; s/^writeInterval .*/writeInterval "
+                        "0.15;/' system/controlDict && echo 'numberOfThreads 1;' >> "
+                        "system/controlDict && sed -i 's/^particleSpacing .*/particleSpacing "
+                        "0.025;/' constant/fluidProperties";
+    assert_int_equal(run_np("tutorials/sloshingTank", "parBlkSloshSerial", slosh, 0), 0);
+    assert_int_equal(run_np("tutorials/sloshingTank", "parBlkSlosh3", slosh, 3), 0);
+    same_output("parBlkSloshSerial", "parBlkSlosh3");
+    assert_int_equal(system("sed -En 's/.*boundary particles stored per rank .*distributed "
+                            "([0-9]+) times, ([0-9]+) changed owner.*/\\1 \\2/p' "
+                            "tests/output/parBlkSlosh3/log.pcisph | awk '{ exit !($1 > 0 && $2 > "
+                            "0) }'"),
+                     0);
+    unsetenv("SLUICE_GRID_UNIT");
+}
+
 /* mpirun without -parallel would run the case N times over itself: refused. */
 static void test_mpirun_without_parallel(void **state)
 {
@@ -665,6 +744,7 @@ int main(void)
         cmocka_unit_test(test_restart_damaged_parallel),
         cmocka_unit_test(test_periodic),
         cmocka_unit_test(test_relaxed_packing),
+        cmocka_unit_test(test_block_units),
         cmocka_unit_test(test_mpirun_without_parallel),
         cmocka_unit_test(test_decompose_case),
     };

@@ -178,6 +178,11 @@ static void print_world(const run *r, const char *dt_rule)
                                 c->effects.e[k].type->name);
     sl_info("  effects             %s", off ? list : "none");
     sl_info("  threads             %d", omp_get_max_threads());
+    char unit[32];
+    sl_info("  grid                %d x %d x %d cells of %g m, units %s (SLUICE_GRID_UNIT: the "
+            "particle order)",
+            s->grid.nc[0], s->grid.nc[1], s->grid.nc[2], s->grid.cell,
+            nbr_unit_name(&s->grid, unit, sizeof unit));
     if (r->parallel)
         sl_info("  ranks               %d (MPI; %s: doc/parallel.md)", par_size(),
                 s->split.domain ? "domain mode, each rank stores its own particles and their halo"

@@ -4,14 +4,17 @@
  * doc/parallel.md).  Not a step a run needs: `mpirun -np N pcisph
  * -parallel` decomposes by itself.
  *
- *   decomposeCase [-case <dir>] -np <N>
+ *   decomposeCase [-case <dir>] -np <N> [-unit row|block|block:N[,...]]
  *
  * Four partitions of the fluid at the start time, by particle count:
- *   domain whole rows of grid cells (x-rows in Morton order of (y, z)) cut
- *          by count: what pcisph -parallel's domain mode owns per rank
- *          (phase 2, solver/pcs_domain.h); it also prints the particles a
- *          rank stores there (own + the halo rows, one cell deep, two with
- *          surface tension);
+ *   domain runs of the grid's units (whole x-rows of cells in Morton order
+ *          of (y, z), or blocks of cells along a Hilbert curve: -unit,
+ *          SLUICE_GRID_UNIT, neighbours.h) cut by count: what pcisph
+ *          -parallel's domain mode owns per rank (phase 2,
+ *          solver/pcs_domain.h); it also prints the particles a rank
+ *          stores there (own + the halo, the cells within one cell of its
+ *          own, two with surface tension); -unit row,block prints a line
+ *          and the storage for each;
  *   rows   contiguous ranges of the cell-sorted rows: what the halo and
  *          gather modes compute per rank (phase 1, replicated state);
  *   slabs  slabs along the longest axis of the fluid's bounding box;
@@ -56,6 +59,13 @@ static const app_option options[] = {APP_CASE,
                                       .def = "2",
                                       .min = 1,
                                       .max = 65536},
+                                     {.name = "unit",
+                                      .kind = APP_STRING,
+                                      .arg = "<units>",
+                                      .help = "the grid's units for the domain partition, as "
+                                              "SLUICE_GRID_UNIT: row, block or block:N; a "
+                                              "comma-separated list compares them (row,block)",
+                                      .def = "SLUICE_GRID_UNIT, else row"},
                                      APP_END};
 
 static const app_info info = {
@@ -255,11 +265,11 @@ static void report(const char *name, const part_stats *st, size_t n, int p)
      * components of every row it does not compute */
     const double halo_bytes = 4.0 * 8.0 * (double)st->halo_max;
     const double gather_bytes = 7.0 * 8.0 * (double)(n - st->own_min);
-    printf("%-6s %9zu %9zu %6.3f  %9zu %9zu %10.0f %6.1f%%  %9zu  %4d %6.1f  %10.3g %10.3g\n", name,
-           st->own_min, st->own_max, st->own_mean > 0 ? (double)st->own_max / st->own_mean : 0.0,
-           st->halo_min, st->halo_max, st->halo_mean,
-           st->own_mean > 0 ? 100 * st->halo_mean / st->own_mean : 0.0, st->bhalo_max, st->nbr_max,
-           st->nbr_mean, halo_bytes, p > 1 ? gather_bytes : 0.0);
+    printf("%-14s %9zu %9zu %6.3f  %9zu %9zu %10.0f %6.1f%%  %9zu  %4d %6.1f  %10.3g %10.3g\n",
+           name, st->own_min, st->own_max,
+           st->own_mean > 0 ? (double)st->own_max / st->own_mean : 0.0, st->halo_min, st->halo_max,
+           st->halo_mean, st->own_mean > 0 ? 100 * st->halo_mean / st->own_mean : 0.0,
+           st->bhalo_max, st->nbr_max, st->nbr_mean, halo_bytes, p > 1 ? gather_bytes : 0.0);
 }
 
 static void write_vtu(const sl_case *c, const pcs_solver *s, const int *r_dom, const int *r_rows,
@@ -284,90 +294,154 @@ static void write_vtu(const sl_case *c, const pcs_solver *s, const int *r_dom, c
            path);
 }
 
+/* One set-up: the case read and built, the solver's grid with the units
+ * `unit` (SLUICE_GRID_UNIT's values; NULL: the setting as it is), the
+ * fluid sorted by cell, the lists within h. */
+typedef struct setup {
+    sl_case c;
+    pcs_solver s;
+} setup;
+
+static void setup_make(setup *u, const char *dir, const char *unit)
+{
+    if (unit) setenv("SLUICE_GRID_UNIT", unit, 1);
+    sl_log_set_quiet(1);
+    case_read(&u->c, dir);
+    case_build(&u->c);
+    sl_log_set_quiet(0);
+    pcs_init(&u->s, &u->c.prm, &u->c.fluid, &u->c.boundary, u->c.lo, u->c.hi, 1e-4, &u->c.effects);
+    pcs_find_neighbours(&u->s);
+}
+
+static void setup_free(setup *u)
+{
+    pcs_free(&u->s);
+    case_free(&u->c);
+}
+
+/* The domain partition over p ranks: each fluid and boundary particle's
+ * rank, and per rank the fluid particles stored (own + halo), those of
+ * the halo, and the boundary particles stored (pcd_partition). */
+typedef struct domain_part {
+    int *rank, *brank;
+    size_t *stored, *hstored, *bstored;
+} domain_part;
+
+static void domain_make(domain_part *d, const pcs_solver *s, int p)
+{
+    d->rank = sl_malloc((s->f->n + 1) * sizeof *d->rank, "ranks");
+    d->brank = sl_malloc((s->b->n + 1) * sizeof *d->brank, "ranks");
+    d->stored = sl_malloc(((size_t)p + 1) * sizeof *d->stored, "ranks");
+    d->hstored = sl_malloc(((size_t)p + 1) * sizeof *d->hstored, "ranks");
+    d->bstored = sl_malloc(((size_t)p + 1) * sizeof *d->bstored, "ranks");
+    pcd_partition(s, p, d->rank, d->stored, d->hstored, d->bstored, d->brank);
+}
+
+static void domain_free(domain_part *d)
+{
+    free(d->rank), free(d->brank), free(d->stored), free(d->hstored), free(d->bstored);
+}
+
+/* What the domain mode's ranks store under the partition d of s. */
+static void domain_details(const pcs_solver *s, const domain_part *d, int p, const char *unit)
+{
+    const size_t n = s->f->n;
+    size_t smin = (size_t)-1, smax = 0, hmin = (size_t)-1, hmax = 0, bmin = (size_t)-1, bmax = 0;
+    double hsum = 0.0, mmin = HUGE_VAL, mmax = 0.0;
+    for (int r = 0; r < p; r++) {
+        bmin = d->bstored[r] < bmin ? d->bstored[r] : bmin;
+        bmax = d->bstored[r] > bmax ? d->bstored[r] : bmax;
+        const double mem =
+            (double)d->stored[r] * FLUID_BYTES + (double)d->bstored[r] * BOUNDARY_BYTES;
+        mmin = mem < mmin ? mem : mmin;
+        mmax = mem > mmax ? mem : mmax;
+        smin = d->stored[r] < smin ? d->stored[r] : smin;
+        smax = d->stored[r] > smax ? d->stored[r] : smax;
+        hmin = d->hstored[r] < hmin ? d->hstored[r] : hmin;
+        hmax = d->hstored[r] > hmax ? d->hstored[r] : hmax;
+        hsum += (double)d->hstored[r];
+    }
+    printf("\ndomain (grid units: %s): pcisph -parallel's domain mode; each rank stores its own "
+           "particles and the halo\naround them (the cells within one cell of its own; two with "
+           "surface tension):\nstored per rank min %zu,\nmax %zu of %zu; stored halo per rank min "
+           "%zu, max %zu, mean "
+           "%.0f (%.0f %% of the mean own count)\n",
+           unit, smin, smax, n, hmin, hmax, hsum / p, n ? 100.0 * hsum / (double)n : 0.0);
+    const size_t nb = s->b->n - s->b->nimages;
+    printf("boundary particles stored per rank (those of its own and halo cells) min %zu, max %zu "
+           "of %zu\n(%.0f-%.0f %%); particle arrays per rank %.2f-%.2f MB (%d B per fluid, %d B "
+           "per boundary\nparticle stored; the whole case in one process: %.2f MB)\n",
+           bmin, bmax, nb, nb ? 100.0 * (double)bmin / (double)nb : 0.0,
+           nb ? 100.0 * (double)bmax / (double)nb : 0.0, 1e-6 * mmin, 1e-6 * mmax, FLUID_BYTES,
+           BOUNDARY_BYTES, 1e-6 * ((double)n * FLUID_BYTES + (double)nb * BOUNDARY_BYTES));
+    border_rows(s, d->rank, d->brank, p);
+}
+
+#define MAX_UNITS 8
+
 int main(int argc, char **argv)
 {
     app a;
     app_parse(&a, &info, argc, argv);
     const char *dir = app_case(&a);
     const int p = (int)app_int(&a, "np", 2);
-    sl_case c;
-    pcs_solver s;
-    sl_log_set_quiet(1);
-    case_read(&c, dir);
-    case_build(&c);
-    sl_log_set_quiet(0);
-    pcs_init(&s, &c.prm, &c.fluid, &c.boundary, c.lo, c.hi, 1e-4, &c.effects);
-    pcs_find_neighbours(&s); /* sorted by cell, lists within h */
-    const size_t n = s.f->n;
+    /* the grid units to compare: -unit's comma-separated list, or the setting */
+    char ulist[256], *units[MAX_UNITS];
+    int nu = 0;
+    snprintf(ulist, sizeof ulist, "%s", app_string(&a, "unit", ""));
+    for (char *t = strtok(ulist, ","); t && nu < MAX_UNITS; t = strtok(NULL, ",")) units[nu++] = t;
+    if (nu == 0) units[nu++] = NULL;
+    setup *set = sl_calloc((size_t)nu, sizeof *set, "set-ups");
+    domain_part *dom = sl_calloc((size_t)nu, sizeof *dom, "partitions");
+    char(*uname)[64] = sl_calloc((size_t)nu, sizeof *uname, "unit names");
+    for (int k = 0; k < nu; k++) {
+        setup_make(&set[k], dir, units[k]);
+        domain_make(&dom[k], &set[k].s, p);
+        nbr_unit_name(&set[k].s.grid, uname[k], sizeof uname[k]);
+    }
+    const pcs_solver *s = &set[0].s;
+    const size_t n = s->f->n;
     int *r_rows = sl_malloc((n + 1) * sizeof(int), "ranks");
     int *r_slabs = sl_malloc((n + 1) * sizeof(int), "ranks");
     int *r_rcb = sl_malloc((n + 1) * sizeof(int), "ranks");
-    int *r_dom = sl_malloc((n + 1) * sizeof(int), "ranks");
-    size_t *stored = sl_malloc(((size_t)p + 1) * sizeof *stored, "ranks");
-    size_t *hstored = sl_malloc(((size_t)p + 1) * sizeof *hstored, "ranks");
-    size_t *bstored = sl_malloc(((size_t)p + 1) * sizeof *bstored, "ranks");
-    int *b_dom = sl_malloc((s.b->n + 1) * sizeof *b_dom, "ranks");
-    pcd_partition(&s, p, r_dom, stored, hstored, bstored, b_dom);
     uint32_t *idx = sl_malloc((n + 1) * sizeof *idx, "particles");
     rows(n, p, r_rows);
     for (size_t i = 0; i < n; i++) idx[i] = (uint32_t)i;
-    slabs(s.f, idx, n, p, r_slabs);
+    slabs(s->f, idx, n, p, r_slabs);
     for (size_t i = 0; i < n; i++) idx[i] = (uint32_t)i;
-    rcb(s.f, idx, n, 0, p, r_rcb);
-    printf("Case %s: %zu fluid and %zu boundary particles, h = %g m, %d ranks\n\n", c.dir, n,
-           s.b->n, s.h, p);
-    printf("        ---- particles per rank ----  ------- fluid halo per rank -------  boundary  "
-           "-- ranks --  ---- bytes / iteration / rank ----\n"
-           "        %9s %9s %6s  %9s %9s %10s %7s  %9s  %4s %6s  %10s %10s\n",
+    rcb(s->f, idx, n, 0, p, r_rcb);
+    printf("Case %s: %zu fluid and %zu boundary particles, h = %g m, %d ranks\n\n", set[0].c.dir, n,
+           s->b->n, s->h, p);
+    printf("                ---- particles per rank ----  ------- fluid halo per rank -------  "
+           "boundary  -- ranks --  ---- bytes / iteration / rank ----\n"
+           "                %9s %9s %6s  %9s %9s %10s %7s  %9s  %4s %6s  %10s %10s\n",
            "min", "max", "max/av", "min", "max", "mean", "/owned", "max", "max", "mean", "halo",
            "replicated");
-    report("domain", (part_stats[]){measure(&s, r_dom, p)}, n, p);
-    report("rows", (part_stats[]){measure(&s, r_rows, p)}, n, p);
-    report("slabs", (part_stats[]){measure(&s, r_slabs, p)}, n, p);
-    report("rcb", (part_stats[]){measure(&s, r_rcb, p)}, n, p);
+    for (int k = 0; k < nu; k++) {
+        char name[80];
+        snprintf(name, sizeof name, nu > 1 ? "domain/%s" : "domain", uname[k]);
+        report(name, (part_stats[]){measure(&set[k].s, dom[k].rank, p)}, n, p);
+    }
+    report("rows", (part_stats[]){measure(s, r_rows, p)}, n, p);
+    report("slabs", (part_stats[]){measure(s, r_slabs, p)}, n, p);
+    report("rcb", (part_stats[]){measure(s, r_rcb, p)}, n, p);
     printf("\nrows: what the halo and gather modes compute per rank (every rank holds every "
            "particle;\nthe gather mode receives the rows of the others each iteration: "
            "'replicated'); domain,\nslabs and rcb: a domain decomposition exchanges only the halo "
            "(x* and p/rho^2 of the\nfluid within h: 'halo').\n");
-    size_t smin = (size_t)-1, smax = 0, hmin = (size_t)-1, hmax = 0, bmin = (size_t)-1, bmax = 0;
-    double hsum = 0.0, mmin = HUGE_VAL, mmax = 0.0;
-    for (int r = 0; r < p; r++) {
-        bmin = bstored[r] < bmin ? bstored[r] : bmin;
-        bmax = bstored[r] > bmax ? bstored[r] : bmax;
-        const double mem = (double)stored[r] * FLUID_BYTES + (double)bstored[r] * BOUNDARY_BYTES;
-        mmin = mem < mmin ? mem : mmin;
-        mmax = mem > mmax ? mem : mmax;
-        smin = stored[r] < smin ? stored[r] : smin;
-        smax = stored[r] > smax ? stored[r] : smax;
-        hmin = hstored[r] < hmin ? hstored[r] : hmin;
-        hmax = hstored[r] > hmax ? hstored[r] : hmax;
-        hsum += (double)hstored[r];
-    }
-    printf("\ndomain: pcisph -parallel's domain mode; each rank stores its own particles and the "
-           "halo\nrows around them (one cell deep; two with surface tension): stored per rank min "
-           "%zu,\nmax %zu of %zu; stored halo per rank min %zu, max %zu, mean %.0f (%.0f %% of the "
-           "mean own count)\n",
-           smin, smax, n, hmin, hmax, hsum / p, n ? 100.0 * hsum / (double)n : 0.0);
-    const size_t nb = s.b->n - s.b->nimages;
-    printf("boundary particles stored per rank (those of its own and halo rows) min %zu, max %zu "
-           "of %zu\n(%.0f-%.0f %%); particle arrays per rank %.2f-%.2f MB (%d B per fluid, %d B "
-           "per boundary\nparticle stored; the whole case in one process: %.2f MB)\n",
-           bmin, bmax, nb, nb ? 100.0 * (double)bmin / (double)nb : 0.0,
-           nb ? 100.0 * (double)bmax / (double)nb : 0.0, 1e-6 * mmin, 1e-6 * mmax, FLUID_BYTES,
-           BOUNDARY_BYTES, 1e-6 * ((double)n * FLUID_BYTES + (double)nb * BOUNDARY_BYTES));
-    border_rows(&s, r_dom, b_dom, p);
-    write_vtu(&c, &s, r_dom, r_rows, r_slabs, r_rcb);
-    free(r_dom);
-    free(b_dom);
-    free(stored);
-    free(hstored);
-    free(bstored);
+    for (int k = 0; k < nu; k++) domain_details(&set[k].s, &dom[k], p, uname[k]);
+    write_vtu(&set[0].c, s, dom[0].rank, r_rows, r_slabs, r_rcb);
     free(r_rows);
     free(r_slabs);
     free(r_rcb);
     free(idx);
-    pcs_free(&s);
-    case_free(&c);
+    for (int k = 0; k < nu; k++) {
+        domain_free(&dom[k]);
+        setup_free(&set[k]);
+    }
+    free(set);
+    free(dom);
+    free(uname);
     app_free(&a);
     return 0;
 }
