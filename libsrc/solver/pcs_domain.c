@@ -699,7 +699,7 @@ int pcd_plan_fluid_box(const pcd_plan *pl, const double lo[3], const double hi[3
     return 0;
 }
 
-void pcd_plan_count_sum(pcd_plan *pl) { par_sum_longs(pl->d->rowcount, pl->d->nrows); }
+void pcd_plan_count_sum(pcd_plan *pl) { par_sum_longs(pl->d->rowcount, pl->d->nunits); }
 
 int pcd_plan_boundary(const pcd_plan *pl, double x, double y, double z)
 {
