@@ -326,7 +326,7 @@ static void test_same_bytes_any_source(void **state)
             unsigned char *copy = calloc(bytes + 1000, 1);
             memcpy(copy, a[j], bytes);
             w[k][j] = (window_src){.data = copy};
-            st[k].col[j] = (sl_source){window_read, &w[k][j]};
+            st[k].col[j] = (sl_source){window_read, &w[k][j], NULL};
         }
     }
     assert_int_equal(rst_write_states(d2, st, 2, f.ctrl, sizeof f.ctrl, &err), 0);
