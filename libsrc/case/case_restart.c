@@ -94,7 +94,7 @@ void rst_state_of(rst_state *st, const pcs_snapshot *s)
     st->time = s->time;
     st->dt = s->dt;
     st->step = s->step;
-    for (int k = 0; k < 7; k++) st->col[k] = (sl_source){read_memory, (void *)a[k]};
+    for (int k = 0; k < 7; k++) st->col[k] = (sl_source){read_memory, (void *)a[k], NULL};
 }
 
 int rst_write_states(const char *dir, const rst_state *states, int nstates, const void *ctrl,

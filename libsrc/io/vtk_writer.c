@@ -331,9 +331,14 @@ static void vtk_append_zlib(vtk_out *o, const vtk_array *a)
         size_t len = nbytes - b * bs < bs ? nbytes - b * bs : bs;
         uLongf zlen = o->zcap;
         int rc;
-        vtk_array_bytes(a, b * bs, len, o->buf);
-        rc = compress2(o->zbuf, &zlen, o->buf, len, o->level);
-        if (rc != Z_OK) o->err = rc == Z_MEM_ERROR ? ENOMEM : EIO;
+        if (a->src == VTK_SRC_STREAM && a->stream->zread) { /* compressed by the source */
+            zlen =
+                (uLongf)a->stream->zread(a->stream->ctx, b * bs, len, o->level, o->zbuf, o->zcap);
+        } else {
+            vtk_array_bytes(a, b * bs, len, o->buf);
+            rc = compress2(o->zbuf, &zlen, o->buf, len, o->level);
+            if (rc != Z_OK) o->err = rc == Z_MEM_ERROR ? ENOMEM : EIO;
+        }
         vtk_put(o, o->zbuf, zlen);
         hdr[3 + b] = zlen;
         total += zlen;

@@ -349,6 +349,75 @@ void par_exchange_double(const double *s, const int *scnt, const int *sdis, doub
     par_exchange_wait();
 }
 
+size_t par_recv_bytes_upto(void *buf, size_t n, int from, int tag)
+{
+#ifdef SL_HAVE_MPI
+    if (n > 2147483647u) n = 2147483647u;
+    MPI_Status stt;
+    int got = 0;
+    const double t0 = MPI_Wtime();
+    MPI_Recv(buf, (int)n, MPI_BYTE, from, tag, MPI_COMM_WORLD, &stt);
+    MPI_Get_count(&stt, MPI_BYTE, &got);
+    count_.seconds += MPI_Wtime() - t0;
+    count_.calls++;
+    count_.messages++;
+    count_.bytes += (double)got;
+    return (size_t)got;
+#else
+    (void)buf, (void)n, (void)from, (void)tag;
+    return 0;
+#endif
+}
+
+#ifdef SL_HAVE_MPI
+static MPI_Request ireqs_[PAR_MAX_IRECV]; /* par_irecv_bytes's, in flight */
+static int nireq_;
+#endif
+
+void par_irecv_bytes(void *buf, size_t n, int from, int tag)
+{
+#ifdef SL_HAVE_MPI
+    if (n > 2147483647u) sl_fatal("-parallel: a message of %zu bytes exceeds MPI's int counts", n);
+    if (nireq_ == PAR_MAX_IRECV)
+        sl_fatal("par_irecv_bytes: %d receives in flight (internal error)", nireq_);
+    const double t0 = MPI_Wtime();
+    MPI_Irecv(buf, (int)n, MPI_BYTE, from, tag, MPI_COMM_WORLD, &ireqs_[nireq_++]);
+    count_.seconds += MPI_Wtime() - t0;
+    count_.calls++;
+    count_.messages++;
+    count_.bytes += (double)n;
+#else
+    (void)buf, (void)n, (void)from, (void)tag;
+    sl_fatal("par_irecv_bytes: built without MPI (internal error)");
+#endif
+}
+
+int par_irecv_test(void)
+{
+#ifdef SL_HAVE_MPI
+    if (!nireq_) return 1;
+    const double t0 = MPI_Wtime();
+    int done = 0;
+    MPI_Testall(nireq_, ireqs_, &done, MPI_STATUSES_IGNORE);
+    if (done) nireq_ = 0;
+    count_.seconds += MPI_Wtime() - t0;
+    return done;
+#else
+    return 1;
+#endif
+}
+
+void par_irecv_wait(void)
+{
+#ifdef SL_HAVE_MPI
+    if (!nireq_) return;
+    const double t0 = MPI_Wtime();
+    MPI_Waitall(nireq_, ireqs_, MPI_STATUSES_IGNORE);
+    nireq_ = 0;
+    count_.seconds += MPI_Wtime() - t0;
+#endif
+}
+
 void par_allgather_long(long v, long *all)
 {
 #ifdef SL_HAVE_MPI

@@ -79,6 +79,19 @@ double par_recv_double(int from);
  * tag keeps requests and replies apart; the receiver knows the size. */
 void par_send_bytes(const void *buf, size_t n, int to, int tag);
 void par_recv_bytes(void *buf, size_t n, int from, int tag);
+/* The same for a message of at most n bytes; returns its size. */
+size_t par_recv_bytes_upto(void *buf, size_t n, int from, int tag);
+/* Receives posted now and completed later (rank 0's streamed output asks
+ * for the next window while it compresses the current one): par_irecv_bytes
+ * posts one (at most PAR_MAX_IRECV in flight; buf must not be touched until
+ * the wait), par_irecv_test lets them progress (MPI moves a large message
+ * only inside its calls; returns 1 when all are complete), par_irecv_wait
+ * completes them all (a no-op when none is posted).  Messages of one
+ * sender and tag match the receives in the order they were posted. */
+#define PAR_MAX_IRECV 64
+void par_irecv_bytes(void *buf, size_t n, int from, int tag);
+int par_irecv_test(void);
+void par_irecv_wait(void);
 /* One long per rank to every rank: all[r] is rank r's v. */
 void par_allgather_long(long v, long *all);
 /* Every rank's v[0..n) summed (exact) / maximised, in place, on every rank. */

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
@@ -1871,7 +1872,19 @@ typedef struct pcd_stream {
     int set, ncomp, col[3];
     size_t tsz; /* bytes per tuple */
     sl_source src;
+    int read;   /* its first window was filled in this write */
+    int dup;    /* streams of the same set and columns made before it in this write */
+    size_t zbs; /* compressed reads: the block size (0: none yet) */
+    int zlevel;
 } pcd_stream;
+
+/* What a stream is (set, columns and which of those alike: the restart
+ * file's ids and fluid.vtu's are both the fluid's id column), to recognise
+ * it in the next write. */
+typedef struct out_key {
+    int set, ncomp, col[3], dup;
+    int z; /* read compressed (not compared) */
+} out_key;
 
 /* A particle emitted since the last sort: serial appends them by id. */
 typedef struct out_tail {
@@ -1903,6 +1916,36 @@ struct pcd_out {
     unsigned char *win;
     const pcd_stream *wcur;
     size_t w0, wn, window;
+    /* the next window, asked for while the writer compresses this one:
+     * its tuples [p0, p0 + pn) of stream pcur arrive in win2 */
+    int prefetch, pending, npost;
+    unsigned char *win2;
+    const pcd_stream *pcur;
+    size_t p0, pn;
+    long prefetched, discarded;
+    int seq_off, cross_off; /* this write's reads: not sequential; not in the last order */
+    /* the order the writer read the streams in: this write's (seq), the
+     * last write's (order: after its stream k it read stream k + 1) */
+    out_key seq[OUT_MAX_STREAMS], order[OUT_MAX_STREAMS];
+    int nseq, norder;
+    /* compressed blocks (zlib appended VTK data): compress_ranks: every
+     * rank compresses the blocks inside its part of an array when rank 0
+     * starts it (the others' all at once, while rank 0 does its own), and
+     * rank 0 receives them in order, OUT_ZBATCH blocks a message.
+     * Rank 0: the batch received (blocks [zb0, zb1) of stream zst, rank
+     * zrank: zlen, then the bytes at zbuf); raw, a block's bytes.  The
+     * others: their blocks of the array asked for (zown: the bytes, zoff:
+     * each block's start, blocks [zown0, zown1)). */
+    int compress_ranks, in_zread;
+    size_t zlimit; /* in_zread: a raw window ends at this tuple (the block's end) */
+    const pcd_stream *zst;
+    int zrank;
+    size_t zb0, zb1;
+    unsigned char *zbuf, *raw;
+    size_t zbuf_cap, raw_cap;
+    unsigned char *zown;
+    size_t zown_cap, *zoff, zoff_cap, zown0, zown1;
+    long zblocks_ranks, zblocks_root;
     double bytes0, t0;
 };
 
@@ -1911,6 +1954,7 @@ static void out_free(struct pcd_out *o)
     if (!o) return;
     for (int k = 0; k < 3; k++) free(o->off[k]);
     free(o->tail), sl_free_aligned(o->tbuf), free(o->bperm), free(o->bkey), free(o->win);
+    free(o->win2), free(o->zbuf), free(o->raw), free(o->zown), free(o->zoff);
     free(o);
 }
 
@@ -2049,59 +2093,140 @@ static void out_pack(const pcs_solver *s, const struct pcd_out *o, int set, int 
 }
 
 /* Tuples [first, first + count) of rank r's part, into out: packed here,
- * or asked of rank r (one request, one reply). */
+ * or asked of rank r (one request, one reply; the reply received now, or,
+ * `later`, posted and completed by par_irecv_wait). */
 static void out_get(pcs_solver *s, struct pcd_out *o, const pcd_stream *st, int r, size_t first,
-                    size_t count, unsigned char *out)
+                    size_t count, unsigned char *out, int later)
 {
     if (!count) return;
     if (r == s->split.rank) {
         out_pack(s, o, st->set, st->ncomp, st->col, first, count, out);
         return;
     }
-    const int64_t ask[7] = {1,          st->set,    st->ncomp,     st->col[0],
-                            st->col[1], st->col[2], (int64_t)first};
-    const int64_t ask2[8] = {ask[0], ask[1], ask[2], ask[3],
-                             ask[4], ask[5], ask[6], (int64_t)count};
-    par_send_bytes(ask2, sizeof ask2, r, TAG_ASK);
-    par_recv_bytes(out, count * st->tsz, r, TAG_PART);
+    const int64_t ask[8] = {1,          st->set,    st->ncomp,      st->col[0],
+                            st->col[1], st->col[2], (int64_t)first, (int64_t)count};
+    par_send_bytes(ask, sizeof ask, r, TAG_ASK);
+    if (!later) {
+        par_recv_bytes(out, count * st->tsz, r, TAG_PART);
+        return;
+    }
+    if (o->npost == PAR_MAX_IRECV) par_irecv_wait(), o->npost = 0;
+    par_irecv_bytes(out, count * st->tsz, r, TAG_PART);
+    o->npost++;
 }
 
-/* The window: the stream's tuples [t, t + OUT_WINDOW) in the serial order
- * (rank by rank; then the particles emitted since the last sort, by id). */
-static void out_fill(pcs_solver *s, struct pcd_out *o, const pcd_stream *st, size_t t)
+/* A window: the stream's tuples [t, t + window) in the serial order (rank
+ * by rank; then the particles emitted since the last sort, by id), into
+ * buf; `later`: the replies posted, not waited for.  Returns the count. */
+static size_t out_fill_into(pcs_solver *s, struct pcd_out *o, const pcd_stream *st, size_t t,
+                            unsigned char *buf, int later)
 {
     const int p = s->split.size;
     const size_t *off = o->off[st->set], nsorted = off[p];
-    const size_t end = t + o->window < o->total[st->set] ? t + o->window : o->total[st->set];
+    size_t end = t + o->window < o->total[st->set] ? t + o->window : o->total[st->set];
+    if (o->in_zread && o->zlimit < end) end = o->zlimit > t ? o->zlimit : t + 1;
     size_t g = t;
     int r = 0;
     while (g < end && g < nsorted) {
         while (off[r + 1] <= g) r++;
         const size_t c = (off[r + 1] < end ? off[r + 1] : end) - g;
-        out_get(s, o, st, r, g - off[r], c, o->win + (g - t) * st->tsz);
+        out_get(s, o, st, r, g - off[r], c, buf + (g - t) * st->tsz, later);
         g += c;
     }
     while (g < end) { /* the tail: runs of one rank's consecutive particles */
         const out_tail *e = &o->tail[g - nsorted];
         size_t c = 1;
         while (g + c < end && e[c].rank == e->rank && e[c].local == e->local + c) c++;
-        out_get(s, o, st, (int)e->rank, (size_t)e->local, c, o->win + (g - t) * st->tsz);
+        out_get(s, o, st, (int)e->rank, (size_t)e->local, c, buf + (g - t) * st->tsz, later);
         g += c;
     }
-    o->wcur = st;
-    o->w0 = t;
-    o->wn = end - t;
+    return end - t;
+}
+
+static out_key key_of(const pcd_stream *st)
+{
+    return (out_key){st->set, st->ncomp, {st->col[0], st->col[1], st->col[2]}, st->dup, 0};
+}
+
+static int same_key(out_key a, out_key b)
+{
+    return a.set == b.set && a.ncomp == b.ncomp && a.col[0] == b.col[0] && a.col[1] == b.col[1] &&
+        a.col[2] == b.col[2] && a.dup == b.dup;
+}
+
+/* The stream the writer will read after st, judged by the last write's
+ * order (the writers read their arrays in a fixed order): one of this
+ * write's streams not read yet, or NULL. */
+static const pcd_stream *out_next_stream(const struct pcd_out *o, const pcd_stream *st)
+{
+    const out_key k = key_of(st);
+    for (int i = 0; i + 1 < o->norder; i++)
+        if (same_key(o->order[i], k)) {
+            if (o->order[i + 1].z) return NULL; /* compressed by its ranks: nothing to fetch */
+            for (int j = 0; j < o->nst; j++)
+                if (!o->st[j].read && same_key(key_of(&o->st[j]), o->order[i + 1]))
+                    return &o->st[j];
+            return NULL;
+        }
+    return NULL;
+}
+
+/* The window holding tuple t of stream st: the prefetched one when it is
+ * (then the next is asked for at once, so that the ranks pack and send it
+ * while the writer compresses this one: the stream's next window, or
+ * after its last the first of the stream the last write read next), else
+ * filled now.  A prefetched window the writer does not read next is
+ * completed and dropped, and the write prefetches no more. */
+static void out_fill(pcs_solver *s, struct pcd_out *o, pcd_stream *st, size_t t)
+{
+    if (!st->read) {
+        st->read = 1;
+        if (o->nseq < OUT_MAX_STREAMS) o->seq[o->nseq++] = key_of(st);
+    }
+    if (o->pending && o->pcur == st && t >= o->p0 && t < o->p0 + o->pn) {
+        par_irecv_wait();
+        o->npost = o->pending = 0;
+        unsigned char *w = o->win;
+        o->win = o->win2, o->win2 = w;
+        o->wcur = st, o->w0 = o->p0, o->wn = o->pn;
+    } else {
+        if (o->pending) {
+            par_irecv_wait();
+            /* the writer read another stream than the last write did next, or
+             * not the next window of the stream it was reading */
+            if (o->pcur != st && !o->p0) o->cross_off = 1;
+            else o->seq_off = 1;
+            o->npost = o->pending = 0;
+            o->discarded++;
+        }
+        o->wn = out_fill_into(s, o, st, t, o->win, 0);
+        o->wcur = st, o->w0 = t;
+    }
+    if (!o->prefetch || !o->wn || o->in_zread) return;
+    const pcd_stream *nst = st;
+    size_t next = o->w0 + o->wn;
+    if (next < o->total[st->set] && o->seq_off) return;
+    if (next >= o->total[st->set]) {
+        if (o->cross_off) return;
+        nst = out_next_stream(o, st);
+        next = 0;
+        if (!nst || !o->total[nst->set]) return;
+    }
+    o->pn = out_fill_into(s, o, nst, next, o->win2, 1);
+    o->pcur = nst, o->p0 = next, o->pending = 1;
+    o->prefetched++;
 }
 
 static void out_read(void *ctx, size_t off, size_t len, void *dst)
 {
-    const pcd_stream *st = ctx;
+    pcd_stream *st = ctx;
     pcs_solver *s = st->s;
     struct pcd_out *o = s->split.dd->out;
     unsigned char *out = dst;
     while (len > 0) {
         const size_t t = off / st->tsz;
         if (o->wcur != st || t < o->w0 || t >= o->w0 + o->wn) out_fill(s, o, st, t);
+        else if (o->pending) par_irecv_test(); /* let the next window move */
         if (!o->wn) sl_fatal("pcs_domain: output read past the end (internal error)");
         const size_t wend = (o->w0 + o->wn) * st->tsz;
         const size_t take = len < wend - off ? len : wend - off;
@@ -2110,6 +2235,147 @@ static void out_read(void *ctx, size_t off, size_t len, void *dst)
         off += take;
         len -= take;
     }
+}
+
+#define OUT_ZBATCH 16 /* compressed blocks per message */
+
+/* The blocks of a stream (nbytes in all, blocks of bs) wholly inside rank
+ * r's sorted part: [*b0, *b1). */
+static void out_zblocks(const struct pcd_out *o, int set, size_t tsz, size_t bs, int r, size_t *b0,
+                        size_t *b1)
+{
+    const size_t lo = o->off[set][r] * tsz, hi = o->off[set][r + 1] * tsz;
+    const size_t nbytes = o->total[set] * tsz, nblocks = (nbytes + bs - 1) / bs;
+    *b0 = (lo + bs - 1) / bs;
+    *b1 = hi == nbytes ? nblocks : hi / bs;
+    if (*b1 < *b0) *b1 = *b0;
+}
+
+/* A rank's blocks of one stream, compressed at once (the threads share
+ * the blocks; each block's bytes are compress2's whatever the thread). */
+static void out_zcompress(pcs_solver *s, struct pcd_out *o, int set, int ncomp, const int *col,
+                          size_t bs, int level)
+{
+    size_t tsz = 0;
+    for (int k = 0; k < ncomp; k++) tsz += col_size(col[k]);
+    const int me = s->split.rank;
+    size_t b0, b1;
+    out_zblocks(o, set, tsz, bs, me, &b0, &b1);
+    const size_t nb = b1 - b0, cap = compressBound((uLong)bs), lo = o->off[set][me] * tsz;
+    const size_t nbytes = o->total[set] * tsz;
+    o->zoff = grow(o->zoff, &o->zoff_cap, nb + 1, sizeof *o->zoff, "output blocks");
+    o->zown = grow(o->zown, &o->zown_cap, nb * cap + 1, 1, "output blocks");
+    const int nt = omp_get_max_threads();
+    o->raw = grow(o->raw, &o->raw_cap, (size_t)nt * (bs + 2 * tsz), 1, "output blocks");
+    size_t *zl = o->zoff + 1; /* each block's length first, then the starts */
+#pragma omp parallel for schedule(dynamic, 1)
+    for (size_t q = 0; q < nb; q++) {
+        unsigned char *raw = o->raw + (size_t)omp_get_thread_num() * (bs + 2 * tsz);
+        const size_t g0 = (b0 + q) * bs, len = nbytes - g0 < bs ? nbytes - g0 : bs;
+        const size_t l0 = g0 - lo, first = l0 / tsz, last = (l0 + len + tsz - 1) / tsz;
+        out_pack(s, o, set, ncomp, col, first, last - first, raw);
+        uLongf zlen = (uLongf)cap;
+        if (compress2(o->zown + q * cap, &zlen, raw + (l0 - first * tsz), (uLong)len, level) !=
+            Z_OK)
+            sl_fatal("pcs_domain: zlib failed on an output block (internal error)");
+        zl[q] = zlen;
+    }
+    /* packed: the blocks one after another, zoff[q] the start of block q */
+    size_t at = 0;
+    for (size_t q = 0; q < nb; q++) {
+        const size_t len = zl[q];
+        memmove(o->zown + at, o->zown + q * cap, len);
+        o->zoff[q] = at;
+        at += len;
+    }
+    o->zoff[nb] = at;
+    o->zown0 = b0, o->zown1 = b1;
+}
+
+/* The reply to a batch request: the lengths of blocks [b0, b1) (8 B each),
+ * then their bytes, one message. */
+static void out_zsend(struct pcd_out *o, size_t b0, size_t b1)
+{
+    if (b0 < o->zown0 || b1 > o->zown1 || b1 <= b0 || b1 - b0 > OUT_ZBATCH)
+        sl_fatal("pcs_domain: compressed output blocks %zu-%zu asked for, %zu-%zu held (internal "
+                 "error)",
+                 b0, b1, o->zown0, o->zown1);
+    const size_t q0 = b0 - o->zown0, q1 = b1 - o->zown0;
+    const size_t data = o->zoff[q1] - o->zoff[q0], head = (b1 - b0) * sizeof(uint64_t);
+    o->raw = grow(o->raw, &o->raw_cap, head + data, 1, "output blocks");
+    for (size_t q = q0; q < q1; q++) {
+        const uint64_t len = o->zoff[q + 1] - o->zoff[q];
+        memcpy(o->raw + (q - q0) * sizeof len, &len, sizeof len);
+    }
+    memcpy(o->raw + head, o->zown + o->zoff[q0], data);
+    par_send_bytes(o->raw, head + data, 0, TAG_PART);
+}
+
+static void out_read(void *ctx, size_t off, size_t len, void *dst);
+
+/* zread of a stream (rank 0): a block wholly inside another rank's part
+ * from that rank (compressed there), any other compressed here. */
+static size_t out_zread(void *ctx, size_t off, size_t len, int level, void *dst, size_t cap)
+{
+    pcd_stream *st = ctx;
+    pcs_solver *s = st->s;
+    struct pcd_out *o = s->split.dd->out;
+    const int p = s->split.size;
+    if (!st->zbs) { /* the array's first block: every rank compresses its blocks now */
+        if (off) sl_fatal("pcs_domain: compressed output not read from its start (internal error)");
+        st->zbs = len, st->zlevel = level;
+        if (!st->read) {
+            st->read = 1;
+            out_key k = key_of(st);
+            k.z = 1;
+            if (o->nseq < OUT_MAX_STREAMS) o->seq[o->nseq++] = k;
+        }
+        const int64_t ask[8] = {2,          st->set,    st->ncomp,        st->col[0],
+                                st->col[1], st->col[2], (int64_t)st->zbs, level};
+        for (int r = 1; r < p; r++) par_send_bytes(ask, sizeof ask, r, TAG_ASK);
+    }
+    const size_t bs = st->zbs, nbytes = o->total[st->set] * st->tsz;
+    if (off % bs || level != st->zlevel || len != (nbytes - off < bs ? nbytes - off : bs))
+        sl_fatal("pcs_domain: compressed output read out of its blocks (internal error)");
+    const size_t b = off / bs;
+    /* the rank whose sorted part holds the block's first byte */
+    const size_t *ro = o->off[st->set];
+    int r = 0;
+    while (r + 1 < p && ro[r + 1] * st->tsz <= off) r++;
+    size_t b0, b1;
+    out_zblocks(o, st->set, st->tsz, bs, r, &b0, &b1);
+    if (r == 0 || b < b0 || b >= b1) { /* here: rank 0's, across ranks, or the tail */
+        o->raw = grow(o->raw, &o->raw_cap, len, 1, "output blocks");
+        o->in_zread = 1;
+        o->zlimit = (off + len + st->tsz - 1) / st->tsz;
+        out_read(st, off, len, o->raw);
+        o->in_zread = 0;
+        uLongf zlen = (uLongf)cap;
+        if (compress2(dst, &zlen, o->raw, (uLong)len, level) != Z_OK)
+            sl_fatal("pcs_domain: zlib failed on an output block (internal error)");
+        o->zblocks_root++;
+        return zlen;
+    }
+    if (o->zst != st || o->zrank != r || b < o->zb0 || b >= o->zb1) {
+        const size_t e = b + OUT_ZBATCH < b1 ? b + OUT_ZBATCH : b1;
+        const int64_t ask[8] = {3, (int64_t)b, (int64_t)e, 0, 0, 0, 0, 0};
+        par_send_bytes(ask, sizeof ask, r, TAG_ASK);
+        const size_t most = (e - b) * (sizeof(uint64_t) + compressBound((uLong)bs));
+        o->zbuf = grow(o->zbuf, &o->zbuf_cap, most, 1, "output blocks");
+        par_recv_bytes_upto(o->zbuf, most, r, TAG_PART);
+        o->zst = st, o->zrank = r, o->zb0 = b, o->zb1 = e;
+    }
+    size_t at = (o->zb1 - o->zb0) * sizeof(uint64_t);
+    uint64_t zl = 0;
+    for (size_t q = o->zb0; q <= b; q++) {
+        memcpy(&zl, o->zbuf + (q - o->zb0) * sizeof zl, sizeof zl);
+        if (q < b) at += (size_t)zl;
+    }
+    if (zl > cap)
+        sl_fatal("pcs_domain: a compressed output block larger than its bound (internal error)");
+    memcpy(dst, o->zbuf + at, (size_t)zl);
+    o->zblocks_ranks++;
+    return (size_t)zl;
 }
 
 /* The prefix offsets of one count per rank. */
@@ -2134,6 +2400,21 @@ int pcd_output_begin(pcs_solver *s, const pcs_snapshot *prev)
                      "array it writes, 1 to 67108864 (default %d)",
                      w, OUT_WINDOW);
         d->out->win = sl_malloc(d->out->window * 3 * sizeof(double), "output window");
+        const char *pf = getenv("SLUICE_PARALLEL_OUTPUT_PREFETCH");
+        d->out->prefetch = !(pf && *pf) || !strcmp(pf, "1");
+        if (pf && *pf && strcmp(pf, "0") && strcmp(pf, "1"))
+            sl_fatal("SLUICE_PARALLEL_OUTPUT_PREFETCH=%s: 1 (rank 0 asks for the next window "
+                     "of an array while it writes this one; the default) or 0",
+                     pf);
+        const char *zc = getenv("SLUICE_PARALLEL_OUTPUT_COMPRESS");
+        d->out->compress_ranks = !(zc && *zc) || !strcmp(zc, "ranks");
+        if (zc && *zc && strcmp(zc, "ranks") && strcmp(zc, "root"))
+            sl_fatal("SLUICE_PARALLEL_OUTPUT_COMPRESS=%s: ranks (every rank compresses the "
+                     "blocks of its part of fluid.vtu and boundary.vtu; the default) or root "
+                     "(rank 0 compresses them all)",
+                     zc);
+        if (d->out->prefetch && !s->split.rank)
+            d->out->win2 = sl_malloc(d->out->window * 3 * sizeof(double), "output window");
     }
     struct pcd_out *o = d->out;
     o->bytes0 = par_counters().bytes;
@@ -2227,6 +2508,12 @@ int pcd_output_begin(pcs_solver *s, const pcs_snapshot *prev)
     o->nst = 0;
     o->wcur = NULL;
     o->wn = 0;
+    o->pending = o->npost = 0;
+    o->discarded = 0;
+    o->nseq = 0;
+    o->seq_off = o->cross_off = 0;
+    o->zst = NULL;
+    o->zblocks_ranks = o->zblocks_root = 0;
     o->active = 1;
     d->c.out_window = o->window;
     if (!me) return 1;
@@ -2237,6 +2524,20 @@ int pcd_output_begin(pcs_solver *s, const pcs_snapshot *prev)
         par_recv_bytes(ask, sizeof ask, 0, TAG_ASK);
         if (!ask[0]) break;
         const int col[3] = {(int)ask[3], (int)ask[4], (int)ask[5]};
+        if (ask[0] == 2) { /* compress this rank's blocks of an array */
+            if (ask[1] != PCD_SET_FLUID && ask[1] != PCD_SET_BOUNDARY && ask[1] != PCD_SET_PREV)
+                sl_fatal("pcs_domain: an output request for set %ld (internal error)",
+                         (long)ask[1]);
+            if (ask[2] < 1 || ask[2] > 3 || ask[6] < 1 || ask[7] < 0 || ask[7] > 9)
+                sl_fatal("pcs_domain: an output request for blocks of %ld bytes (internal error)",
+                         (long)ask[6]);
+            out_zcompress(s, o, (int)ask[1], (int)ask[2], col, (size_t)ask[6], (int)ask[7]);
+            continue;
+        }
+        if (ask[0] == 3) {
+            out_zsend(o, (size_t)ask[1], (size_t)ask[2]);
+            continue;
+        }
         size_t tsz = 0;
         for (int k = 0; k < (int)ask[2]; k++) tsz += col_size(col[k]);
         const size_t first = (size_t)ask[6], count = (size_t)ask[7];
@@ -2264,7 +2565,9 @@ const sl_source *pcd_output_source(pcs_solver *s, int set, int ncomp, int c0, in
     pcd_stream *st = &o->st[o->nst++];
     *st = (pcd_stream){.s = s, .set = set, .ncomp = ncomp, .col = {c0, c1, c2}};
     for (int k = 0; k < ncomp; k++) st->tsz += col_size(st->col[k]);
-    st->src = (sl_source){out_read, st};
+    for (int j = 0; j + 1 < o->nst; j++)
+        if (same_key(key_of(&o->st[j]), key_of(st))) st->dup++;
+    st->src = (sl_source){out_read, st, o->compress_ranks ? out_zread : NULL};
     return &st->src;
 }
 
@@ -2280,11 +2583,22 @@ void pcd_output_end(pcs_solver *s)
     struct pcd_out *o = d->out;
     const double c0 = par_counters().seconds;
     const int64_t done[8] = {0};
+    if (o->pending) { /* a window asked for and not read: its replies are due */
+        par_irecv_wait();
+        o->npost = o->pending = 0;
+    }
     for (int r = 1; r < s->split.size; r++) par_send_bytes(done, sizeof done, r, TAG_ASK);
     o->active = 0;
     d->c.out_writes++;
+    memcpy(o->order, o->seq, (size_t)o->nseq * sizeof *o->seq);
+    o->norder = o->nseq;
+    d->c.out_zblocks_ranks += o->zblocks_ranks;
+    d->c.out_zblocks_root += o->zblocks_root;
+    d->c.out_prefetched += o->prefetched;
+    d->c.out_discarded += o->discarded;
+    o->prefetched = 0;
     d->c.out_bytes += par_counters().bytes - o->bytes0;
-    const double held = (double)(o->window * 3 * sizeof(double)) +
+    const double held = (double)(o->window * 3 * sizeof(double)) * (o->win2 ? 2.0 : 1.0) +
         (double)o->tail_cap * sizeof *o->tail + (double)o->tbuf_cap * sizeof *o->tbuf;
     if (held > d->c.out_held) d->c.out_held = held;
     d->c.out_seconds += omp_get_wtime() - o->t0;

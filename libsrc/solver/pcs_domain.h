@@ -214,6 +214,8 @@ typedef struct pcd_counts {
     /* streamed output (rank 0's): writes, bytes received for them, the
      * window's tuples, the largest output buffers held (bytes), seconds */
     long out_writes;
+    long out_prefetched, out_discarded;       /* windows asked for ahead; dropped unread */
+    long out_zblocks_ranks, out_zblocks_root; /* zlib blocks compressed by their ranks; by rank 0 */
     double out_bytes;
     size_t out_window;
     double out_held, out_seconds;

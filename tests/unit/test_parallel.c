@@ -174,6 +174,34 @@ static void test_streamed_output(void **state)
                             "tests/output/parStream3/log.pcisph | awk 'NF == 3 { ok = $1 == 100 "
                             "&& $1 < $2 && $1 < $3 } END { exit !ok }'"),
                      0);
+    /* the prefetch and the compression by the ranks (the defaults): rank 0
+     * asked for the next window while it wrote the one before and read
+     * every window it asked for, and the zlib blocks of fluid.vtu and
+     * boundary.vtu wholly inside another rank's part were compressed there
+     * ("(N windows asked for while the one before was written, 0 dropped
+     * unread; zlib blocks compressed by the ranks holding them R, by rank 0
+     * Z)"); with neither (SLUICE_PARALLEL_OUTPUT_PREFETCH=0,
+     * SLUICE_PARALLEL_OUTPUT_COMPRESS=root) the same bytes */
+    assert_int_equal(system("sed -En 's/.*\\(([0-9]+) windows asked for while the one before was "
+                            "written, ([0-9]+) dropped unread; zlib blocks compressed by the ranks "
+                            "holding them ([0-9]+), by rank 0 ([0-9]+)\\).*/\\1 \\2 \\3 \\4/p' "
+                            "tests/output/parStream3/log.pcisph | awk 'NF == 4 { ok = $1 > 100 "
+                            "&& $2 == 0 && $3 > 0 && $4 > 0 } END { exit !ok }'"),
+                     0);
+    setenv("SLUICE_PARALLEL_OUTPUT_WINDOW", "100", 1);
+    setenv("SLUICE_PARALLEL_OUTPUT_PREFETCH", "0", 1);
+    setenv("SLUICE_PARALLEL_OUTPUT_COMPRESS", "root", 1);
+    rc = run_np("tests/cases/damBreakShort", "parStreamNoPrefetch3", dam, 3);
+    unsetenv("SLUICE_PARALLEL_OUTPUT_COMPRESS");
+    unsetenv("SLUICE_PARALLEL_OUTPUT_PREFETCH");
+    unsetenv("SLUICE_PARALLEL_OUTPUT_WINDOW");
+    assert_int_equal(rc, 0);
+    same_output("parDamSerial", "parStreamNoPrefetch3");
+    assert_int_equal(
+        system("grep -q '(0 windows asked for while the one before was written, 0 "
+               "dropped unread; zlib blocks compressed by the ranks holding them 0, by "
+               "rank 0 0)' tests/output/parStreamNoPrefetch3/log.pcisph"),
+        0);
 }
 
 static void test_ranks_times_threads(void **state)

@@ -724,17 +724,20 @@ static void summary_parallel(const run *r, double wall)
                 dc.setup_boundary_min, dc.setup_boundary_max, dc.nb_global,
                 1e-6 * dc.peak_setup_min, 1e-6 * dc.peak_setup_max);
         sl_info("  parallel: output streamed to rank 0: %ld writes, %.3g bytes received per "
-                "write, %.2f s; rank 0's largest output buffer %zu particles (of %zu fluid, %zu "
+                "write, %.2f s (%ld windows asked for while the one before was written, %ld "
+                "dropped unread; zlib blocks compressed by the ranks holding them %ld, by rank 0 "
+                "%ld); rank 0's largest output buffer %zu particles (of %zu fluid, %zu "
                 "boundary), %.3g bytes held; function objects: %ld gathers of the whole state, "
                 "%ld of the particles near their points only (%zu cells at the last), %.3g bytes "
                 "received per step; %ld reductions over every particle (densityError, energy; "
                 "no gather), %.3g bytes received per step, %.2f s; peak resident memory rank 0 "
                 "%.1f MB, the others %.1f-%.1f MB",
                 dc.out_writes, dc.out_writes ? dc.out_bytes / (double)dc.out_writes : 0.0,
-                dc.out_seconds, dc.out_window, pcs_fluid_total(&r->s), pcs_boundary_total(&r->s),
-                dc.out_held, dc.gathers, dc.near_gathers, dc.near_cells, dc.gather_bytes / steps,
-                dc.fo_reductions, dc.fo_bytes / steps, dc.fo_seconds, 1e-6 * dc.peak_root,
-                1e-6 * dc.peak_others_min, 1e-6 * dc.peak_others_max);
+                dc.out_seconds, dc.out_prefetched, dc.out_discarded, dc.out_zblocks_ranks,
+                dc.out_zblocks_root, dc.out_window, pcs_fluid_total(&r->s),
+                pcs_boundary_total(&r->s), dc.out_held, dc.gathers, dc.near_gathers, dc.near_cells,
+                dc.gather_bytes / steps, dc.fo_reductions, dc.fo_bytes / steps, dc.fo_seconds,
+                1e-6 * dc.peak_root, 1e-6 * dc.peak_others_min, 1e-6 * dc.peak_others_max);
     }
     if (sp->size == 1) sl_info("  parallel: one rank, nothing exchanged");
     else if (sp->domain)
