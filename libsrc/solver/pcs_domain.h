@@ -2,18 +2,20 @@
  * pcs_domain: -parallel's domain mode (doc/parallel.md, "phase 2"), the
  * default where it applies (no periodic axis).
  *
- * Ownership by position.  The grid's cells are numbered row by row along
- * x, the rows in Morton order of (y, z) (neighbours.h); rank r owns the
- * rows [cut[r], cut[r+1]) of that order (whole rows of cells, cut where
- * the fluid counts balance), and so the fluid particles in them.  Because
- * the fluid is sorted by the key (cell, id), a rank's own particles are a
+ * Ownership by position.  The grid's cells are numbered unit by unit
+ * (neighbours.h, SLUICE_GRID_UNIT: whole x-rows of cells, the rows in
+ * Morton order of (y, z), or blocks of cells along a Hilbert curve); rank
+ * r owns the units [cut[r], cut[r+1]) of that order (cut where the fluid
+ * counts balance), and so the fluid particles in them.  Because the fluid
+ * is sorted by the key (cell, id), a rank's own particles are a
  * contiguous range of the serial run's sorted array, and its own plus
- * halo particles a sub-sequence of it.
+ * halo particles a sub-sequence of it.  ("Rows" below: the own units.)
  *
  * Storage: between steps a rank holds its own particles only; at the start
  * of a step (before the sort) particles whose cell left its rows migrate
  * to their new owner, and the halo is received from its owners: the
- * particles of the rows within one cell (in y and z) of the own rows.  The
+ * particles of the cells within one cell of the own cells (with rows:
+ * the rows within one cell in y and z of the own rows).  The
  * neighbour lists over that window hold each own particle's serial
  * neighbours in the serial order, so every per-particle sum is the serial
  * sum.  The boundary particles are distributed by cell as well: a rank
@@ -78,6 +80,12 @@ pcd_plan *pcd_plan_new(const pcs_params *p, const eff_set *eff, const double lo[
 void pcd_plan_count(pcd_plan *pl, double x, double y, double z);
 void pcd_plan_cut(pcd_plan *pl);
 int pcd_plan_fluid(const pcd_plan *pl, double x, double y, double z);
+/* Whether a point of the box [lo, hi] may be own (conservative: yes when
+ * any cell it meets is own), and the counts of ranks that each counted a
+ * part of the fluid summed over the ranks (collective; a restart file's
+ * records, case_part.c). */
+int pcd_plan_fluid_box(const pcd_plan *pl, const double lo[3], const double hi[3]);
+void pcd_plan_count_sum(pcd_plan *pl);
 int pcd_plan_boundary(const pcd_plan *pl, double x, double y, double z);
 void pcd_plan_built(pcd_plan *pl);
 void pcd_plan_free(pcd_plan *pl);
