@@ -6,6 +6,7 @@
 #include "dictionary/dict.h"
 #include "effects/gravity.h"
 #include "effects/moving_boundary.h"
+#include "effects/particle_shifting.h"
 #include "geometry/mesh.h"
 #include "boundary/bnd_methods.h"
 #include "parallel/par.h"
@@ -841,6 +842,11 @@ void case_read(sl_case *c, const char *dir)
     read_fluid(c);
     read_boundary(c);
     read_periodic(c, "constant/boundaryProperties");
+    const eff_instance *shift = eff_find(&c->effects, eff_particle_shifting.name);
+    if (shift && c->prm.periodic.axes != 7u) /* no free-surface treatment (particle_shifting.h) */
+        sl_fatal("%s: particleShifting: only in a box periodic along every axis (periodic (x y "
+                 "z); in constant/boundaryProperties): it has no free-surface treatment yet",
+                 eff_particle_shifting_where(shift->state));
     void *moving = eff_moving_boundary_new(c->motions, c->nshapes);
     if (moving) eff_add(&c->effects, &eff_moving_boundary, moving);
     sl_err err;

@@ -7,12 +7,14 @@
 
 #include "core/sl_mem.h"
 #include "effects/laminar_viscosity.h"
+#include "effects/particle_shifting.h"
 #include "effects/surface_density.h"
 #include "effects/surface_tension.h"
 #include "effects/viscosity.h"
 
-const eff_type *const eff_fluid_effects[] = {&eff_viscosity, &eff_laminar_viscosity,
-                                             &eff_surface_tension, &eff_surface_density, NULL};
+const eff_type *const eff_fluid_effects[] = {&eff_viscosity,         &eff_laminar_viscosity,
+                                             &eff_surface_tension,   &eff_surface_density,
+                                             &eff_particle_shifting, NULL};
 
 void eff_set_init(eff_set *s) { memset(s, 0, sizeof *s); }
 

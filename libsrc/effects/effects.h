@@ -8,7 +8,7 @@
  * kinematic viscosity to the Becker-Teschner coefficient), what it does,
  * and the plain data it needs saved with rollbacks and restart files.
  * One file per effect: gravity, viscosity, laminar_viscosity, surface_tension,
- * surface_density, moving_boundary, emitter.
+ * surface_density, particle_shifting, moving_boundary, emitter.
  *
  * A case's effects form an eff_set, in a fixed order (the order of
  * EFF_FLUID_EFFECTS after gravity, then moving boundaries and emitters),
@@ -32,13 +32,16 @@ typedef enum {
     EFF_PRE_STEP,  /* before the neighbour search: the world at t + dt (moving bodies) */
     EFF_FORCES,    /* non-pressure accelerations, added to f->ax, ay, az */
     EFF_DENSITY,   /* a correction of every predicted density (in the density pass) */
+    EFF_SHIFT,     /* after the pressure solve, before the integration: a change of the
+                      positions x(t) (particle shifting), with the step's neighbour lists */
     EFF_POST_STEP, /* after an accepted step (emitters) */
     EFF_STAGES
 } eff_stage;
 
 /* What an effect sees of the state.  Effects of a stage change only what
  * their stage is for: forces f->ax..az, pre-step the boundary (and its
- * sort in grid), post-step the fluid set. */
+ * sort in grid), shift the fluid's positions f->x..z, post-step the fluid
+ * set. */
 typedef struct eff_view {
     sl_fluid *f;
     sl_boundary *b;

@@ -1166,6 +1166,14 @@ static void integrate(pcs_solver *s, pcs_stats *st)
     st->fmax = sqrt(f2max);
 }
 
+/* The EFF_SHIFT effects (particleShifting): x(t) moved with the step's
+ * lists, before the integration adds dt v; not in the relaxation. */
+static void shift_positions(pcs_solver *s)
+{
+    eff_view v = effect_view(s, s->t, s->dt, s->f->x, s->f->y, s->f->z);
+    eff_run(s->eff, EFF_SHIFT, &v);
+}
+
 /* One step of Algorithm 2 from t to t + dt. */
 void pcs_step(pcs_solver *s, pcs_stats *st)
 {
@@ -1175,6 +1183,7 @@ void pcs_step(pcs_solver *s, pcs_stats *st)
     PHASE(s, search, pcs_find_neighbours(s)); /* neighbours N_i(t), fluid and boundary */
     PHASE(s, forces, compute_forces(s));      /* F^{v,g,ext}; p = 0, F^p = 0 */
     pressure_solve(s, st);                    /* until rho_err* <= eta: eq. (3)-(13) */
+    shift_positions(s);                       /* particleShifting: x(t) moved (effects) */
     PHASE(s, integrate, integrate(s, st));    /* v, x (Euler-Cromer); eq. (9)-(12) */
     dom_after_integrate(&s->halo, s->f);      /* periodic: x wrapped, images dropped */
     s->t += s->dt;
