@@ -2,18 +2,20 @@
  * pcs_domain: -parallel's domain mode (doc/parallel.md, "phase 2"), the
  * default where it applies (no periodic axis).
  *
- * Ownership by position.  The grid's cells are numbered row by row along
- * x, the rows in Morton order of (y, z) (neighbours.h); rank r owns the
- * rows [cut[r], cut[r+1]) of that order (whole rows of cells, cut where
- * the fluid counts balance), and so the fluid particles in them.  Because
- * the fluid is sorted by the key (cell, id), a rank's own particles are a
+ * Ownership by position.  The grid's cells are numbered unit by unit
+ * (neighbours.h, SLUICE_GRID_UNIT: whole x-rows of cells, the rows in
+ * Morton order of (y, z), or blocks of cells along a Hilbert curve); rank
+ * r owns the units [cut[r], cut[r+1]) of that order (cut where the fluid
+ * counts balance), and so the fluid particles in them.  Because the fluid
+ * is sorted by the key (cell, id), a rank's own particles are a
  * contiguous range of the serial run's sorted array, and its own plus
- * halo particles a sub-sequence of it.
+ * halo particles a sub-sequence of it.  ("Rows" below: the own units.)
  *
  * Storage: between steps a rank holds its own particles only; at the start
  * of a step (before the sort) particles whose cell left its rows migrate
  * to their new owner, and the halo is received from its owners: the
- * particles of the rows within one cell (in y and z) of the own rows.  The
+ * particles of the cells within one cell of the own cells (with rows:
+ * the rows within one cell in y and z of the own rows).  The
  * neighbour lists over that window hold each own particle's serial
  * neighbours in the serial order, so every per-particle sum is the serial
  * sum.  The boundary particles are distributed by cell as well: a rank

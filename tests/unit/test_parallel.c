@@ -687,7 +687,8 @@ static void test_mpirun_without_parallel(void **state)
 }
 
 /* decomposeCase: the partitions of damBreakShort's 9216 fluid particles
- * over 3 ranks, 3072 each, and the VTU for ParaView (no MPI needed). */
+ * over 3 ranks, 3072 each, and the VTU for ParaView (no MPI needed); the
+ * domain partition with rows and with blocks (-unit row,block). */
 static void test_decompose_case(void **state)
 {
     (void)state;
@@ -708,6 +709,16 @@ static void test_decompose_case(void **state)
     assert_int_equal(system("grep -q rcbRank "
                             "tests/output/parDecompose/postProcessing/decomposeCase/fluid.vtu"),
                      0);
+    /* -unit row,block: a line and the storage for each grid unit, the own
+     * counts near a third each (3056-3088 with rows) */
+    snprintf(cmd, sizeof cmd,
+             "%s/decomposeCase -case tests/output/parDecompose -np 3 -unit row,block > "
+             "tests/output/parDecompose/log.units 2>&1 && grep -Eq '^domain/row +3056 +3088 ' "
+             "tests/output/parDecompose/log.units && grep -E '^domain/block:4 ' "
+             "tests/output/parDecompose/log.units | awk '{ exit !($2 > 2900 && $3 < 3250) }' && "
+             "grep -q 'grid units: block:4' tests/output/parDecompose/log.units",
+             bin_dir());
+    assert_int_equal(system(cmd), 0);
     assert_int_equal(system("grep -Eq '^overlap: own particles reading a halo value' "
                             "tests/output/parDecompose/log.decomposeCase"),
                      0);
