@@ -2,6 +2,7 @@
 #include "case/case_part.h"
 #include "case/case_restart.h"
 #include "core/sl_log.h"
+#include "parallel/par.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -75,10 +76,29 @@ static void scan_chunk(void *ctx, size_t n, const double *const a[6], const uint
     }
 }
 
+static int scan_box(void *ctx, const double lo[3], const double hi[3])
+{
+    return pcd_plan_fluid_box(((scan_ctx *)ctx)->plan, lo, hi);
+}
+
+static int scan_want(void *ctx, double x, double y, double z)
+{
+    return pcd_plan_fluid(((scan_ctx *)ctx)->plan, x, y, z);
+}
+
+/* Snapshot k's records: counted by row (this rank's part of the records,
+ * positions only: the ranks' counts are summed after), or the own ones
+ * kept (the blocks that may hold one: their box, then their positions). */
 static void scan(const char *dir, const pcs_snapshot *heads, int k, scan_ctx *ctx)
 {
     sl_err err;
-    if (rst_scan(dir, heads, k, scan_chunk, ctx, &err)) sl_fatal("%s", err.msg);
+    rst_select count = {.positions = 1, .part = par_rank(), .parts = par_size()};
+    rst_select keep = {.box = scan_box, .want = scan_want};
+    const rst_select *sel = ctx->f || ctx->snap ? &keep : &count;
+    if (rst_scan(dir, heads, k, sel, scan_chunk, ctx, &err))
+        sl_fatal("%s: this time directory cannot be continued (listTimes -check marks the damaged "
+                 "ones; remove it to restart from the one before, or set startFrom startTime)",
+                 err.msg);
 }
 
 pcd_plan *case_part_build(sl_case *c, const char *restart, const pcs_snapshot *heads, int nsnaps,
@@ -87,8 +107,10 @@ pcd_plan *case_part_build(sl_case *c, const char *restart, const pcs_snapshot *h
     const size_t nf = restart ? heads[0].n : c->nfluid, nb = c->nboundary;
     pcd_plan *pl = pcd_plan_new(&c->prm, &c->effects, c->lo, c->hi, nf, nb);
     scan_ctx sc = {.plan = pl};
-    if (restart) scan(restart, heads, 0, &sc);
-    else {
+    if (restart) {
+        scan(restart, heads, 0, &sc);
+        pcd_plan_count_sum(pl);
+    } else {
         prt_filter rows = {count_row, pl, 0};
         case_build_particles(c, &rows, NULL, CASE_FLUID);
     }
@@ -112,6 +134,7 @@ pcd_plan *case_part_build(sl_case *c, const char *restart, const pcs_snapshot *h
             prev->step = heads[1].step;
             scan(restart, heads, 1, &sc);
         }
+        rst_scan_end();
     }
     pcd_plan_built(pl);
     return pl;

@@ -10,8 +10,10 @@
  *   census   every particle made, none stored: the counts of the whole
  *            case (fluid, boundary), its checks and bounds (case_build's);
  *   rows     the fluid made again and counted by row of the solver's grid
- *            (or, for a restart, the file's state read in chunks): the
- *            cuts, the serial run's cuts, on every rank alike;
+ *            (or, for a restart, the positions of the file's first state:
+ *            each rank counts its part of the records, the counts summed
+ *            over the ranks): the cuts, the serial run's cuts, on every
+ *            rank alike;
  *   keep     made again, and stored: the fluid of the own rows, the
  *            boundary particles of the rows around them that the set-up
  *            reads (pcd_plan_boundary), with the ids of the whole case;
@@ -19,8 +21,10 @@
  *            the fluid (and of the state before, for a rollback).
  *
  * So a rank's set-up holds its own share, not the case: the price is the
- * fluid made three times and the boundary twice (and a restart file read
- * with one stream per field).  initialPacking relaxed relaxes the whole
+ * fluid made three times and the boundary twice (a restart file of format
+ * 3: each rank decompresses its part of the positions and the pieces
+ * holding its own records, case_restart.h; of format 2: the whole file
+ * several times over, one stream per field).  initialPacking relaxed relaxes the whole
  * case on every rank before the split (main, relax): such a case (not
  * restarted) is built whole, the documented exception.
  */

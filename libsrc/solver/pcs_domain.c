@@ -677,6 +677,31 @@ int pcd_plan_fluid(const pcd_plan *pl, double x, double y, double z)
     return pl->d->owner[plan_row(pl, x, y, z)] == pl->me;
 }
 
+/* Whether a point of the box [lo, hi] may be in an own row: an own cell
+ * among the cells the box meets (tested by their centres, so whatever
+ * decides pcd_plan_fluid decides this). */
+int pcd_plan_fluid_box(const pcd_plan *pl, const double lo[3], const double hi[3])
+{
+    const nbr_grid *g = &pl->grid;
+    int c0[3], c1[3];
+    for (int a = 0; a < 3; a++) {
+        const double f0 = floor((lo[a] - g->lo[a]) * g->inv_cell);
+        const double f1 = floor((hi[a] - g->lo[a]) * g->inv_cell), top = g->nc[a] - 1;
+        c0[a] = (int)(f0 >= 0.0 ? (f0 < top ? f0 : top) : 0.0); /* NaN: 0 */
+        c1[a] = (int)(f1 < top ? (f1 >= 0.0 ? f1 : 0.0) : top); /* NaN: the last */
+    }
+    for (int cz = c0[2]; cz <= c1[2]; cz++)
+        for (int cy = c0[1]; cy <= c1[1]; cy++)
+            for (int cx = c0[0]; cx <= c1[0]; cx++)
+                if (pcd_plan_fluid(pl, g->lo[0] + (cx + 0.5) * g->cell,
+                                   g->lo[1] + (cy + 0.5) * g->cell,
+                                   g->lo[2] + (cz + 0.5) * g->cell))
+                    return 1;
+    return 0;
+}
+
+void pcd_plan_count_sum(pcd_plan *pl) { par_sum_longs(pl->d->rowcount, pl->d->nunits); }
+
 int pcd_plan_boundary(const pcd_plan *pl, double x, double y, double z)
 {
     return pl->need[plan_row(pl, x, y, z)];

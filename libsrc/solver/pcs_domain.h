@@ -80,6 +80,12 @@ pcd_plan *pcd_plan_new(const pcs_params *p, const eff_set *eff, const double lo[
 void pcd_plan_count(pcd_plan *pl, double x, double y, double z);
 void pcd_plan_cut(pcd_plan *pl);
 int pcd_plan_fluid(const pcd_plan *pl, double x, double y, double z);
+/* Whether a point of the box [lo, hi] may be own (conservative: yes when
+ * any cell it meets is own), and the counts of ranks that each counted a
+ * part of the fluid summed over the ranks (collective; a restart file's
+ * records, case_part.c). */
+int pcd_plan_fluid_box(const pcd_plan *pl, const double lo[3], const double hi[3]);
+void pcd_plan_count_sum(pcd_plan *pl);
 int pcd_plan_boundary(const pcd_plan *pl, double x, double y, double z);
 void pcd_plan_built(pcd_plan *pl);
 void pcd_plan_free(pcd_plan *pl);

@@ -4,7 +4,8 @@
  * without its wall-time column), for np 1, 2 and 3 (oversubscribed on a
  * 2-core machine) on a dam break, a rocking tank (moving boundary) and a
  * filling (emitter); restart files written by 2 ranks continued on 3 give
- * the uninterrupted serial run; the filling's particles change rank both
+ * the uninterrupted serial run (format 3, and format 2 through the old
+ * reader; a damaged piece is refused, naming the file); the filling's particles change rank both
  * ways, and its first steps leave ranks
  * without fluid rows; a periodic channel on 3 ranks gives the serial
  * files; 2 ranks x 2 threads the same; the halo mode (the default where
@@ -202,6 +203,40 @@ static void test_streamed_output(void **state)
                "dropped unread; zlib blocks compressed by the ranks holding them 0, by "
                "rank 0 0)' tests/output/parStreamNoPrefetch3/log.pcisph"),
         0);
+}
+
+/* pressureSource divergence (warm-started, gradient-corrected) on 3 ranks
+ * of the domain mode, and mixed on 2 ranks of the halo mode
+ * (SLUICE_PARALLEL_EXCHANGE=halo, the mode of periodic cases): the serial
+ * files; and the source is in use (its fluid.vtu is not the density
+ * source's, parDamSerial of test_dam_break_np123). */
+static void test_pressure_source(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    char div[2048], mix[2048];
+    snprintf(div, sizeof div,
+             "%s && echo 'pressureSource { type divergence; warmStart on; gradientCorrection on; "
+             "}' >> constant/fluidProperties",
+             dam);
+    snprintf(mix, sizeof mix,
+             "%s && echo 'pressureSource { type mixed; gradientCorrection on; }' >> "
+             "constant/fluidProperties",
+             dam);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parSrcDivSerial", div, 0), 0);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parSrcDiv3", div, 3), 0);
+    same_output("parSrcDivSerial", "parSrcDiv3");
+    assert_int_equal(system("grep -q 'domain mode' tests/output/parSrcDiv3/log.pcisph"), 0);
+    assert_int_not_equal(system("cmp -s tests/output/parSrcDivSerial/0.04/fluid.vtu "
+                                "tests/output/parDamSerial/0.04/fluid.vtu"),
+                         0);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parSrcMixSerial", mix, 0), 0);
+    setenv("SLUICE_PARALLEL_EXCHANGE", "halo", 1);
+    int rc = run_np("tests/cases/damBreakShort", "parSrcMix2", mix, 2);
+    unsetenv("SLUICE_PARALLEL_EXCHANGE");
+    assert_int_equal(rc, 0);
+    same_output("parSrcMixSerial", "parSrcMix2");
+    assert_int_equal(system("grep -q 'halo mode' tests/output/parSrcMix2/log.pcisph"), 0);
 }
 
 static void test_ranks_times_threads(void **state)
@@ -499,6 +534,66 @@ static void test_restart_2_then_3(void **state)
                      0);
 }
 
+/* Restart files of format 2 (the format before the pieces of format 3,
+ * SLUICE_RESTART_FORMAT=2) written by 2 ranks, continued on 3: each rank
+ * read its part through the old reader, and the serial run's files at the
+ * end.  Uses parRestartSerial (test_restart_2_then_3). */
+static void test_restart_old_format_2_then_3(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    const char *first = "sed -i 's/^endTime .*/endTime 0.02;/; s/^writeInterval .*/writeInterval "
+                        "0.02;/; s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict";
+    setenv("SLUICE_RESTART_FORMAT", "2", 1);
+    int rc = run_np("tests/cases/damBreakShort", "parRestartV2", first, 2);
+    unsetenv("SLUICE_RESTART_FORMAT");
+    assert_int_equal(rc, 0);
+    assert_int_equal(system("zcat tests/output/parRestartV2/0.02/uniform/restart | head -c 16 | "
+                            "grep -q SLUICE-RESTART-2"),
+                     0);
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "cd tests/output/parRestartV2 && sed -i 's/^endTime .*/endTime 0.04;/; "
+             "s/^startFrom .*/startFrom latestTime;/' system/controlDict && " MPIRUN
+             "-np 3 %s/pcisph -case . -quiet -parallel "
+             "> log.restart 2>&1 && grep -q 'Restart file read: .*(in parts)' log.restart",
+             bin_dir());
+    assert_int_equal(system(cmd), 0);
+    assert_int_equal(setup_in_parts("tests/output/parRestartV2/log.restart", 3, 1), 0);
+    assert_int_equal(system("cmp tests/output/parRestartSerial/0.04/fluid.vtu "
+                            "tests/output/parRestartV2/0.04/fluid.vtu"),
+                     0);
+}
+
+/* A restart file with a damaged piece, continued on 3 ranks: refused
+ * before anything is written, the message naming the file. */
+static void test_restart_damaged_parallel(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    const char *first = "sed -i 's/^endTime .*/endTime 0.02;/; s/^writeInterval .*/writeInterval "
+                        "0.02;/; s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict";
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parRestartDamaged", first, 2), 0);
+    /* 16 bytes overwritten a third into the file (a piece of the first state) */
+    assert_int_equal(system("cd tests/output/parRestartDamaged/0.02/uniform && s=$(wc -c < "
+                            "restart) && printf XXXXXXXXXXXXXXXX | dd of=restart bs=1 seek=$((s / "
+                            "3)) conv=notrunc 2> /dev/null"),
+                     0);
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "cd tests/output/parRestartDamaged && sed -i 's/^endTime .*/endTime 0.04;/; "
+             "s/^startFrom .*/startFrom latestTime;/' system/controlDict && " MPIRUN
+             "-np 3 %s/pcisph -case . -quiet -parallel > log.restart 2>&1",
+             bin_dir());
+    assert_true(system(cmd) != 0);
+    assert_int_equal(system("grep -q \"restart file '\\./0.02/uniform/restart' is damaged "
+                            "(state 1, field .*cannot be continued\" "
+                            "tests/output/parRestartDamaged/log.restart"),
+                     0);
+    assert_int_equal(system("cd tests/output/parRestartDamaged && ! ls -d 0.04* > /dev/null 2>&1"),
+                     0);
+}
+
 /* A periodic channel on 3 ranks in both modes, a box periodic along all
  * three axes on 2: the serial files. */
 static void test_periodic(void **state)
@@ -709,6 +804,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_dam_break_np123),
         cmocka_unit_test(test_streamed_output),
+        cmocka_unit_test(test_pressure_source),
         cmocka_unit_test(test_ranks_times_threads),
         cmocka_unit_test(test_gather_mode_and_becker),
         cmocka_unit_test(test_density_and_tension_effects),
@@ -718,6 +814,8 @@ int main(void)
         cmocka_unit_test(test_function_objects_reduced),
         cmocka_unit_test(test_domain_migration_rebalance),
         cmocka_unit_test(test_restart_2_then_3),
+        cmocka_unit_test(test_restart_old_format_2_then_3),
+        cmocka_unit_test(test_restart_damaged_parallel),
         cmocka_unit_test(test_periodic),
         cmocka_unit_test(test_relaxed_packing),
         cmocka_unit_test(test_block_units),

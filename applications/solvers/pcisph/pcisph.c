@@ -52,6 +52,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -396,6 +397,23 @@ static void precision_of(sl_case *c, double t, const char *name)
             return;
         }
     }
+}
+
+/* What reading the restart file cost each rank (collective): bytes
+ * decompressed and read, seconds (case_restart.h's counters). */
+static void log_restart_read(const run *r)
+{
+    const rst_counts c = rst_counters();
+    char path[4096];
+    struct stat sb;
+    snprintf(path, sizeof path, "%s/uniform/restart", r->restart_dir);
+    const double size = stat(path, &sb) ? 0.0 : (double)sb.st_size;
+    double v[8] = {c.inflated, -c.inflated, c.read, -c.read, c.wall, -c.wall, c.cpu, -c.cpu};
+    for (int k = 0; k < 8; k++) v[k] = par_max_double(v[k]);
+    sl_info("Restart file read: bytes decompressed per rank %.4g-%.4g, compressed bytes read "
+            "%.4g-%.4g (the file %.4g bytes), %.3f-%.3f s wall, %.3f-%.3f s CPU per rank%s",
+            -v[1], v[0], -v[3], v[2], size, -v[5], v[4], -v[7], v[6],
+            r->c.part ? " (in parts)" : "");
 }
 
 /* startFrom latestTime: continue from the newest complete time directory. */
@@ -951,6 +969,7 @@ int main(int argc, char **argv)
         plan =
             case_part_build(&r.c, restarted ? r.restart_dir : NULL, r.heads, r.nheads,
                             restarted && hist_last(&r.hist) ? &hist_slot(&r.hist, 0)->snap : NULL);
+    if (restarted) log_restart_read(&r);
     if (!restarted) {
         ts_init(&r.ctl, case_initial_step(&r.c, rule, sizeof rule));
         r.before.t_first = r.t;

@@ -7,9 +7,9 @@
  * (fluid.pvd, boundary.pvd and their .vtu.series twins) are rewritten to
  * list the time directories that are left.
  *
- * With -check, each listed time's restart file is read to its end (its
- * CRC checked): a damaged or missing one is marked after the name, and the
- * exit status is 1.
+ * With -check, each listed time's restart file is read whole (every
+ * piece decompressed, every CRC checked): a damaged or missing one is
+ * marked after the name, and the exit status is 1.
  *
  *   listTimes [-case <dir>] [-withZero] [-latestTime] [-time <list>] [-check] [-rm]
  */
@@ -28,8 +28,9 @@ static const app_option options[] = {
     {.name = "withZero", .help = "include the first time (the initial state, normally 0)"},
     APP_TIMES,
     {.name = "check",
-     .help = "read each listed time's restart file (uniform/restart) to\n"
-             "its end and mark a damaged or missing one; exit 1 if any"},
+     .help = "read each listed time's restart file (uniform/restart)\n"
+             "whole, every CRC checked, and mark a damaged or missing\n"
+             "one; exit 1 if any"},
     {.name = "rm",
      .help = "remove the listed time directories, then rewrite the\n"
              "collections (*.pvd, *.vtu.series) to list those left"},
