@@ -67,4 +67,21 @@ double vc_poiseuille(double g, double nu, double d, double z, double t);
 /* The standing wave's linear period 2 pi / sqrt(g k tanh(k H)), k = pi / L. */
 double vc_wave_period(double g, double L, double H);
 
+/* The standing wave's record fitted to A exp(-d t) cos(w t + phi) + c
+ * (vc_fit.c): period 2 pi / w and decay d with their one-sigma fit
+ * uncertainties, residual rms over A. */
+typedef struct vc_wave_fit {
+    int ok;
+    double period, dperiod; /* s */
+    double decay, ddecay;   /* 1/s */
+    double amplitude, phase, offset, residual;
+    size_t iterations;
+} vc_wave_fit;
+
+/* Fit the n samples y(t), seeded with the period period0 (> 0) and the
+ * decay rate decay0 (NAN: 0).  Returns 0 when the fit converged, else 1
+ * with out->ok 0 and NAN figures. */
+int vc_fit_wave(const double *t, const double *y, size_t n, double period0, double decay0,
+                vc_wave_fit *out);
+
 #endif

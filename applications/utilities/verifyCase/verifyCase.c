@@ -11,7 +11,9 @@
  * relative error, from the zero crossings of the velocity's projection on
  * the linear mode (all written times, the first included), and its
  * amplitude's decay rate against the viscous 2 nu k^2 (summary.dat's
- * decayRate, decayExact, decayError).  With
+ * decayRate, decayExact, decayError), and both again from a least-squares
+ * fit of the whole record to a damped cosine (vc_fit.c; periodFit,
+ * fitError, decayFit and their one-sigma uncertainties).  With
  * -table a row "label kind r0 particles error wallTime steps" is appended
  * to <file> (a header first when the file is new); wallTime is the sum of
  * the steps' wall seconds of postProcessing/timeStep/0/timeStep.dat (the
@@ -151,12 +153,40 @@ static double wave_decay(const vc_sample *s, size_t n, const size_t *at, int nc,
     return -(m * sxy - sx * sy) / (m * sxx - sx * sx);
 }
 
+/* The period and decay from the fit of the whole record (vc_fit.c),
+ * seeded from the zero crossings' period T and the extremes' rate; one
+ * line of output.  A fit that does not converge is a warning, not an
+ * error: the zero crossings' figures stand. */
+static void wave_fit(const vc_sample *s, size_t n, double T, double rate, double Te,
+                     double exact_rate, vc_wave_fit *fit)
+{
+    double *t = sl_malloc(2 * n * sizeof *t, "wave record"), *y = t + n;
+    size_t m = 0;
+    for (size_t i = 0; i < n; i++)
+        if (isfinite(s[i].mode)) {
+            t[m] = s[i].t;
+            y[m++] = s[i].mode;
+        }
+    if (vc_fit_wave(t, y, m, T, rate, fit))
+        sl_warning("the fit of the wave's record (%zu written times) to a damped cosine did not "
+                   "converge: only the zero crossings' period",
+                   m);
+    else
+        printf("# period fit %.6g +- %.2g s (%+.4g of linear theory), decay %.6g +- %.2g /s "
+               "(viscous %.6g), from a damped cosine through %zu written times, residual rms "
+               "%.3g of its amplitude\n",
+               fit->period, fit->dperiod, (fit->period - Te) / Te, fit->decay, fit->ddecay,
+               exact_rate, m, fit->residual);
+    free(t);
+}
+
 /* <case>/postProcessing/verifyCase/summary.dat: one row, for sweepCase's
  * results (e.g. postProcessing/verifyCase/summary.dat:error). */
 static void write_summary(const sl_case *c, const vc_setup *s, double error, double perr,
                           double vrms, double wall, long steps, double reached,
-                          const double decay[3])
+                          const double decay[3], const vc_wave_fit *fit, double Te)
 {
+    const double nan = (double)NAN, ft = fit ? fit->period : nan, fd = fit ? fit->decay : nan;
     sl_err err;
     char path[4096];
     snprintf(path, sizeof path, "%s/postProcessing/verifyCase", c->dir);
@@ -170,11 +200,19 @@ static void write_summary(const sl_case *c, const vc_setup *s, double error, dou
             "# decayRate, decayExact (1/s): standingWave's amplitude decay, measured and "
             "2 nu k^2;\n"
             "#   decayError |decayRate - decayExact| / decayExact (NaN when nu is 0)\n"
+            "# periodFit, periodFitSigma (s), decayFit, decayFitSigma (1/s): standingWave's\n"
+            "#   least-squares fit of the whole record to A exp(-d t) cos(w t + phi) + c, with\n"
+            "#   its one-sigma uncertainties; fitError |periodFit - linear| / linear,\n"
+            "#   fitDecayError as decayError, fitResidual the residual rms over A\n"
             "# error\tpressureError\tvelocityRms\tparticles\tr0\twallTime\tsteps\treached"
-            "\tdecayRate\tdecayExact\tdecayError\n",
+            "\tdecayRate\tdecayExact\tdecayError\tperiodFit\tperiodFitSigma\tfitError"
+            "\tdecayFit\tdecayFitSigma\tfitDecayError\tfitResidual\n",
             vc_kind_names[s->kind]);
-    fprintf(f, "%.8g\t%.8g\t%.8g\t%zu\t%g\t%.6g\t%ld\t%.6g\t%.8g\t%.8g\t%.8g\n", error, perr, vrms,
+    fprintf(f, "%.8g\t%.8g\t%.8g\t%zu\t%g\t%.6g\t%ld\t%.6g\t%.8g\t%.8g\t%.8g", error, perr, vrms,
             s->nfluid, s->r0, wall, steps, reached, decay[0], decay[1], decay[2]);
+    fprintf(f, "\t%.8g\t%.4g\t%.8g\t%.8g\t%.4g\t%.8g\t%.4g\n", ft, fit ? fit->dperiod : nan,
+            fabs(ft - Te) / Te, fd, fit ? fit->ddecay : nan,
+            s->nu > 0.0 ? fabs(fd - decay[1]) / decay[1] : nan, fit ? fit->residual : nan);
     if (fclose(f)) sl_fatal("cannot write '%s'", path);
 }
 
@@ -221,13 +259,14 @@ int main(int argc, char **argv)
             counted++;
         }
     }
-    double error = worst, decay[3] = {NAN, NAN, NAN};
+    double error = worst, decay[3] = {NAN, NAN, NAN}, Te = NAN;
+    vc_wave_fit fit = {.ok = 0};
     const char *what = "largest over the times";
     if (s.kind == VC_HYDROSTATIC || s.kind == VC_TRANSLATING) {
         error = counted ? mean / (double)counted : (double)NAN;
         what = "mean over the times";
     } else if (s.kind == VC_WAVE) {
-        const double Te = vc_wave_period(s.gmag, s.hi[0] - s.lo[0], s.depth);
+        Te = vc_wave_period(s.gmag, s.hi[0] - s.lo[0], s.depth);
         double *tc = sl_malloc(times.n * sizeof *tc, "crossings");
         size_t *at = sl_malloc(times.n * sizeof *at, "crossings");
         const int ncross = wave_crossings(smp, times.n, Te, tc, at);
@@ -248,6 +287,7 @@ int main(int argc, char **argv)
         printf("# amplitude decay %.6g /s from %d extremes, viscous 2 nu k^2 %.6g /s (nu %g "
                "m^2/s of verifyDict), error %.6g of it\n",
                decay[0], npeaks, decay[1], s.nu, decay[2]);
+        wave_fit(smp, times.n, T, decay[0], Te, decay[1], &fit);
         free(tc);
         free(at);
         what = "relative error of the period";
@@ -264,7 +304,7 @@ int main(int argc, char **argv)
                    "of the times written",
                    c.dir, last, c.ctl.end_time);
     write_summary(&c, &s, error, smp[times.n - 1].perr, smp[times.n - 1].vrms, wall, steps, reached,
-                  decay);
+                  decay, s.kind == VC_WAVE ? &fit : NULL, Te);
     if (table) {
         const char *label = app_string(&a, "label", NULL);
         if (!label) {
