@@ -451,10 +451,6 @@ static void read_source(const dict *d, pcs_params *p)
                       "must be the density error's weight in the source, above 0 (divergence) "
                       "and below 1 (density)");
     }
-    if (p->source != PCS_SOURCE_DENSITY && par_size() > 1)
-        bad_value(d, "pressureSource",
-                  "divergence and mixed are not yet parallel: run without -parallel (or "
-                  "pressureSource density)");
 }
 
 static void read_fluid(sl_case *c)

@@ -502,38 +502,59 @@ static int r3_state(r3 *r, size_t k, pcs_snapshot *s, sl_err *err)
     return rc;
 }
 
+/* The reader of the last probe or scan of a file of format 3, kept open
+ * for the next scan of the same file (its tail, head and index read once)
+ * until rst_scan_end. */
+static r3 open_;
+static char *open_path_;
+
+void rst_scan_end(void)
+{
+    if (!open_path_) return;
+    r3_close(&open_);
+    free(open_path_);
+    open_path_ = NULL;
+}
+
 static rst_status read3(const char *path, pcs_snapshot *snaps, int max, int *nsnaps, void *ctrl,
                         size_t ctrl_size, int arrays, sl_err *err)
 {
-    r3 r;
-    rst_status st = r3_open(&r, path, err);
-    if (st == RST_OK && ctrl && r.h.ctrl_size != ctrl_size) {
+    r3 local, *r = &local; /* a probe's is kept open for the scans */
+    if (!arrays) {
+        rst_scan_end();
+        open_path_ = sl_malloc(strlen(path) + 1, "path");
+        strcpy(open_path_, path);
+        r = &open_;
+    }
+    rst_status st = r3_open(r, arrays ? path : open_path_, err);
+    if (st == RST_OK && ctrl && r->h.ctrl_size != ctrl_size) {
         sl_err_set(err,
                    "restart file '%s' was written for a different case (%llu bytes of run "
                    "state, this case has %zu: emitters added or removed?)",
-                   path, (unsigned long long)r.h.ctrl_size, ctrl_size);
+                   path, (unsigned long long)r->h.ctrl_size, ctrl_size);
         st = RST_MISMATCH;
     }
     *nsnaps = 0;
-    for (size_t k = 0; st == RST_OK && k < r.h.nsnaps; k++) {
+    for (size_t k = 0; st == RST_OK && k < r->h.nsnaps; k++) {
         const int keep = (int)k < max;
         if (keep) {
-            snaps[k].n = (size_t)r.s[k].n;
-            snaps[k].time = r.s[k].time;
-            snaps[k].dt = r.s[k].dt;
-            snaps[k].step = (long)r.s[k].step;
+            snaps[k].n = (size_t)r->s[k].n;
+            snaps[k].time = r->s[k].time;
+            snaps[k].dt = r->s[k].dt;
+            snaps[k].step = (long)r->s[k].step;
         }
-        if (arrays && r3_state(&r, k, keep ? &snaps[k] : NULL, err)) st = RST_DAMAGED;
+        if (arrays && r3_state(r, k, keep ? &snaps[k] : NULL, err)) st = RST_DAMAGED;
         *nsnaps += keep;
     }
     if (st == RST_OK) {
-        void *to = ctrl ? ctrl : sl_malloc(r.h.ctrl_size ? (size_t)r.h.ctrl_size : 1, "restart");
-        if (r3_member(&r, r.t.ctrl_off, r.t.ctrl_len, r.t.ctrl_crc, to, (size_t)r.h.ctrl_size, NULL,
-                      "its run state", err))
+        void *to = ctrl ? ctrl : sl_malloc(r->h.ctrl_size ? (size_t)r->h.ctrl_size : 1, "restart");
+        if (r3_member(r, r->t.ctrl_off, r->t.ctrl_len, r->t.ctrl_crc, to, (size_t)r->h.ctrl_size,
+                      NULL, "its run state", err))
             st = RST_DAMAGED;
         if (!ctrl) free(to);
     }
-    r3_close(&r);
+    if (r != &open_) r3_close(r);
+    else if (st != RST_OK) rst_scan_end();
     return st;
 }
 
@@ -608,20 +629,6 @@ rst_status rst_probe(const char *dir, pcs_snapshot *snaps, int max, int *nsnaps,
                      size_t ctrl_size, sl_err *err)
 {
     return read_file(dir, snaps, max, nsnaps, ctrl, ctrl_size, 0, err);
-}
-
-/* The reader of the last scan of a file of format 3, kept open for the
- * next scan of the same file (its tail, head and index read once) until
- * rst_scan_end. */
-static r3 open_;
-static char *open_path_;
-
-void rst_scan_end(void)
-{
-    if (!open_path_) return;
-    r3_close(&open_);
-    free(open_path_);
-    open_path_ = NULL;
 }
 
 /* rst_scan of a file of format 3: the selected blocks' pieces only. */

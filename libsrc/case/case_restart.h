@@ -120,9 +120,10 @@ typedef struct rst_select {
 } rst_select;
 int rst_scan(const char *dir, const pcs_snapshot *snaps, int k, const rst_select *sel,
              rst_chunk_fn fn, void *ctx, sl_err *err);
-/* rst_scan keeps a file of format 3 open, its index read, for the next
- * scan of the same file: rst_scan_end closes it (so do rst_read, rst_probe
- * and the writers). */
+/* rst_probe and rst_scan keep a file of format 3 open, its index read,
+ * for the scans of the same file that follow (the file must not change
+ * meanwhile): rst_scan_end closes it (so do rst_read, another probe and
+ * the writers). */
 void rst_scan_end(void);
 
 /* What this process's reads of restart files cost so far: bytes

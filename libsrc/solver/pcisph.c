@@ -733,9 +733,6 @@ void pcs_init_part(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary 
     }
     for (size_t i = 0; i < f->n; i++) f->rho[i] = p->rho0; /* until the first pass */
     split_init(&s->split, b->n, p->one_rank);
-    if (p->source != PCS_SOURCE_DENSITY && s->split.size > 1)
-        sl_fatal("pcs_init: pressureSource divergence and mixed are not yet parallel (the case "
-                 "reader refuses them under -parallel)");
     s->split.halo = pcx_usable(s);
     if (s->split.halo && pcd_usable(s)) { /* every rank keeps its own particles only */
         s->split.domain = 1;
@@ -1024,8 +1021,9 @@ static void halo_refresh(pcs_solver *s, int what)
  * step's pressures (as DFSPH's solvers do), since the divergence source
  * only corrects what the step would change: their force at x(t) (p /
  * rho^2 with the density of the last prediction) is the first iteration's
- * F^p.  Serial and periodic images only (the case reader refuses these
- * sources under -parallel). */
+ * F^p.  Every mode: a halo particle carries its owner's p and rho (the
+ * domain mode's halo, the replicated state of the halo and gather modes),
+ * so every rank starts from the serial values. */
 static void warm_start(pcs_solver *s)
 {
     sl_fluid *f = s->f;

@@ -205,6 +205,40 @@ static void test_streamed_output(void **state)
         0);
 }
 
+/* pressureSource divergence (warm-started, gradient-corrected) on 3 ranks
+ * of the domain mode, and mixed on 2 ranks of the halo mode
+ * (SLUICE_PARALLEL_EXCHANGE=halo, the mode of periodic cases): the serial
+ * files; and the source is in use (its fluid.vtu is not the density
+ * source's, parDamSerial of test_dam_break_np123). */
+static void test_pressure_source(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    char div[2048], mix[2048];
+    snprintf(div, sizeof div,
+             "%s && echo 'pressureSource { type divergence; warmStart on; gradientCorrection on; "
+             "}' >> constant/fluidProperties",
+             dam);
+    snprintf(mix, sizeof mix,
+             "%s && echo 'pressureSource { type mixed; gradientCorrection on; }' >> "
+             "constant/fluidProperties",
+             dam);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parSrcDivSerial", div, 0), 0);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parSrcDiv3", div, 3), 0);
+    same_output("parSrcDivSerial", "parSrcDiv3");
+    assert_int_equal(system("grep -q 'domain mode' tests/output/parSrcDiv3/log.pcisph"), 0);
+    assert_int_not_equal(system("cmp -s tests/output/parSrcDivSerial/0.04/fluid.vtu "
+                                "tests/output/parDamSerial/0.04/fluid.vtu"),
+                         0);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parSrcMixSerial", mix, 0), 0);
+    setenv("SLUICE_PARALLEL_EXCHANGE", "halo", 1);
+    int rc = run_np("tests/cases/damBreakShort", "parSrcMix2", mix, 2);
+    unsetenv("SLUICE_PARALLEL_EXCHANGE");
+    assert_int_equal(rc, 0);
+    same_output("parSrcMixSerial", "parSrcMix2");
+    assert_int_equal(system("grep -q 'halo mode' tests/output/parSrcMix2/log.pcisph"), 0);
+}
+
 static void test_ranks_times_threads(void **state)
 {
     (void)state;
@@ -770,6 +804,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_dam_break_np123),
         cmocka_unit_test(test_streamed_output),
+        cmocka_unit_test(test_pressure_source),
         cmocka_unit_test(test_ranks_times_threads),
         cmocka_unit_test(test_gather_mode_and_becker),
         cmocka_unit_test(test_density_and_tension_effects),

@@ -7,7 +7,8 @@
  * rst_scan (parts, positions only, a box and a wanted set) against the
  * whole state; a file of format 2 (the old writer, SLUICE_RESTART_FORMAT=2)
  * read by every reader; a damaged piece, a damaged index, a truncated file
- * and a file with bytes appended refused as damaged, naming the file.
+ * and a file with bytes appended refused as damaged, naming the file; an
+ * empty state; what a part of the records costs to read (bytes counted).
  * Run from the repository root; scratch files in tests/output/test_restart.
  */
 #include <stdarg.h>
@@ -507,6 +508,69 @@ static void test_empty_state(void **state)
     for (int k = 0; k < 2; k++) snap_free(&s[k]), snap_free(&got[k]);
 }
 
+/* What a rank's reads cost (rst_counters): of a state of 100,000 records
+ * (13 pieces a field), a part of 3 decompresses the positions of its
+ * blocks only, and a scan wanting the middle third of x (the records
+ * sorted along x, as the cells sort them) the blocks holding it: about a
+ * third of the state each, not the whole. */
+static int box_middle(void *ctx, const double lo[3], const double hi[3])
+{
+    (void)ctx;
+    return lo[0] < 2.0 / 3.0 && hi[0] >= 1.0 / 3.0;
+}
+
+static int want_middle(void *ctx, double x, double y, double z)
+{
+    (void)ctx, (void)y, (void)z;
+    return x >= 1.0 / 3.0 && x < 2.0 / 3.0;
+}
+
+static void test_part_costs(void **state)
+{
+    (void)state;
+    enum { N = 100000 };
+    char dir[256];
+    sl_err err;
+    pcs_snapshot s, heads[1];
+    make_state(&s, N, 0);
+    const pcs_snapshot *snaps[1] = {&s};
+    const unsigned char ctrl[8] = {0};
+    dir_of("costs", dir, sizeof dir);
+    assert_int_equal(rst_write(dir, snaps, 1, ctrl, sizeof ctrl, &err), 0);
+    int n;
+    snap_init(&heads[0]);
+    double before = rst_counters().inflated;
+    assert_int_equal(rst_probe(dir, heads, 1, &n, NULL, 0, &err), RST_OK);
+    const double probe = rst_counters().inflated - before, slack = 2.0 * RST_RECORDS;
+    print_message("probe: %.0f bytes decompressed\n", probe);
+    assert_true(probe < 20000); /* head, index, run state */
+    collect c;
+    for (int part = 0; part < 3; part++) {
+        rst_select sel = {.positions = 1, .part = part, .parts = 3};
+        before = rst_counters().inflated;
+        scan_into(dir, heads, 0, &sel, &c);
+        const double got = rst_counters().inflated - before;
+        print_message("part %d of 3: %zu records, %.0f bytes decompressed (the state: %d)\n", part,
+                      c.out.n, got, 52 * N);
+        assert_true(got <= 24.0 * (N / 3.0 + slack));
+        snap_free(&c.out);
+    }
+    rst_select sel = {.box = box_middle, .want = want_middle};
+    before = rst_counters().inflated;
+    scan_into(dir, heads, 0, &sel, &c);
+    const double got = rst_counters().inflated - before;
+    size_t wanted = 0, seen = 0;
+    for (size_t i = 0; i < N; i++) wanted += want_middle(NULL, s.x[i], 0, 0);
+    for (size_t i = 0; i < c.out.n; i++) seen += want_middle(NULL, c.out.x[i], 0, 0);
+    print_message("the middle third: %zu records handed out, %.0f bytes decompressed\n", c.out.n,
+                  got);
+    assert_int_equal(seen, wanted);
+    assert_true(got <= 52.0 * (N / 3.0 + slack));
+    snap_free(&c.out);
+    rst_scan_end();
+    snap_free(&s);
+}
+
 int main(void)
 {
     char cmd[300];
@@ -516,6 +580,7 @@ int main(void)
         cmocka_unit_test(test_round_trip),         cmocka_unit_test(test_same_bytes_any_source),
         cmocka_unit_test(test_old_format),         cmocka_unit_test(test_damaged_piece),
         cmocka_unit_test(test_truncated_and_tail), cmocka_unit_test(test_empty_state),
+        cmocka_unit_test(test_part_costs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

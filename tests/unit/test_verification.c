@@ -745,20 +745,6 @@ static void test_pressure_source_refusals(void **state)
     assert_non_null(strstr(output, "boundaryProperties:"));
     assert_non_null(strstr(output, "keyword 'method': harada2007"));
     assert_int_not_equal(run("test -e %s/0", c), 0); /* nothing written */
-    /* not yet parallel: refused under -parallel, naming the option */
-    if (par_built() && system("command -v mpirun > /dev/null 2>&1") == 0) {
-        assert_int_equal(run("sed -i 's/^method .*/method ihmsen2010;/' "
-                             "%s/constant/boundaryProperties",
-                             c),
-                         0);
-        run("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe "
-            "--bind-to none --mca mpi_yield_when_idle 1 -np 2 "
-            "%s/pcisph -case %s -parallel",
-            b, c);
-        assert_non_null(strstr(output,
-                               "keyword 'pressureSource': divergence and mixed are not "
-                               "yet parallel"));
-    }
 }
 
 /* ---- verifyCase refuses what it cannot judge ---------------------------------- */
