@@ -234,9 +234,24 @@ static void test_standing_wave_period(void **state)
     "E=%s/editDictionary && $E constant/fluidProperties -entry laminarViscosity -set '{ nu " \
     "0.001; boundaryNu 0; }' && $E system/verifyDict -entry nu -set 0.001 && $E "            \
     "system/controlDict -entry numberOfThreads -set 2"
+/* The sanitizer build (tests/run_tests --quick, SLUICE_QUICK=1) skips the
+ * accuracy tests whose fine levels take minutes under ASan (r0 0.005 of
+ * the standing wave: 1-2.5 min each there); their code paths run in its
+ * other tests, and the release run asserts them.  Reported as skipped. */
+#define SKIP_UNDER_SANITIZERS()                                                             \
+    do {                                                                                    \
+        const char *q_ = getenv("SLUICE_QUICK");                                            \
+        if (q_ && !strcmp(q_, "1")) {                                                       \
+            print_message("sanitizer build (SLUICE_QUICK=1): the fine levels take minutes " \
+                          "here; the release run asserts this test: skipped\n");            \
+            skip();                                                                         \
+        }                                                                                   \
+    } while (0)
+
 static void test_standing_wave_decay(void **state)
 {
     (void)state;
+    SKIP_UNDER_SANITIZERS();
     char edit[512];
     snprintf(edit, sizeof edit, SW_VISCOUS, bin_dir());
     double p1 = level("standingWave", "standingWave_viscous_0.01", 0.01, 0.002, edit);
@@ -280,6 +295,7 @@ static void assert_period_fit(const char *name, double lo, double hi)
 static void test_standing_wave_period_kernel_support(void **state)
 {
     (void)state;
+    SKIP_UNDER_SANITIZERS();
     char edit[512], wide[768];
     snprintf(edit, sizeof edit,
              "%s/editDictionary system/controlDict -entry numberOfThreads -set 2", bin_dir());
@@ -695,6 +711,7 @@ static void test_particle_shifting_refusals(void **state)
 static void test_mixed_source_free_surface(void **state)
 {
     (void)state;
+    SKIP_UNDER_SANITIZERS();
     double h = level("hydrostaticTank", "hydrostaticTank_mixed", 0.01, 0.002, MIXED);
     assert_true(h < 0.055);
     double e1 = level("standingWave", "standingWave_mixed_0.01", 0.01, 0.002, MIXED);
