@@ -246,7 +246,7 @@ int out_discard_after(case_output *o, double t, sl_err *err)
 }
 
 int out_write(case_output *o, pcs_solver *s, double t, const rst_state *states, int nstates,
-              const void *ctrl, size_t ctrl_size, sl_err *err)
+              const rst_bstate *bnd, const void *ctrl, size_t ctrl_size, sl_err *err)
 {
     const case_controls *k = &o->c->ctl;
     char name[64], tmpname[96];
@@ -264,7 +264,7 @@ int out_write(case_output *o, pcs_solver *s, double t, const rst_state *states, 
     rc = tdir_mkdirs(tmp, err);
     if (!rc) rc = write_fluid(fpath, s, &opt, err);
     if (!rc && k->write_boundary) rc = write_boundary(bpath, s, &opt, err);
-    if (!rc && nstates) rc = rst_write_states(tmp, states, nstates, ctrl, ctrl_size, err);
+    if (!rc && nstates) rc = rst_write_states(tmp, states, nstates, bnd, ctrl, ctrl_size, err);
     if (!rc) {
         remove_dir(dir); /* an older run's directory of the same time */
         if (rename(tmp, dir) != 0) {

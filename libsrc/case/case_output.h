@@ -37,13 +37,14 @@ void out_free(case_output *o);
  * precision is kept for the rest of the run, with a warning. */
 void out_name(case_output *o, double t, char *name, size_t len);
 /* Write time t, with the restart file of the nstates states (none: no
- * restart file; rst_state_of makes one of a snapshot) and the run's other
+ * restart file; rst_state_of makes one of a snapshot), the boundary's
+ * carried values bnd (NULL: none; rst_bstate_of) and the run's other
  * state ctrl (ctrl_size bytes); returns 0, or nonzero with err filled
  * (nothing half-written).  The name used is in o->last_name.  -parallel's
  * domain mode: on rank 0 between pcd_output_begin and pcd_output_end, the
  * files streamed from every rank's part (solver/pcs_domain.h). */
 int out_write(case_output *o, pcs_solver *s, double t, const rst_state *states, int nstates,
-              const void *ctrl, size_t ctrl_size, sl_err *err);
+              const rst_bstate *bnd, const void *ctrl, size_t ctrl_size, sl_err *err);
 /* The run went back to time t (shock handling): time directories written
  * after t hold states it discarded; remove them and their entries. */
 int out_discard_after(case_output *o, double t, sl_err *err);

@@ -57,7 +57,7 @@ typedef struct scan_ctx {
     pcs_snapshot *snap; /* into it, or (both NULL) counted by row */
 } scan_ctx;
 
-static void scan_chunk(void *ctx, size_t n, const double *const a[6], const uint32_t *id)
+static void scan_chunk(void *ctx, size_t n, const double *const a[8], const uint32_t *id)
 {
     scan_ctx *k = ctx;
     for (size_t i = 0; i < n; i++) {
@@ -69,10 +69,12 @@ static void scan_chunk(void *ctx, size_t n, const double *const a[6], const uint
         if (!pcd_plan_fluid(k->plan, x, y, z)) continue;
         if (k->snap) {
             snap_push(k->snap, x, y, z, a[3][i], a[4][i], a[5][i], id[i]);
+            if (a[6]) k->snap->p[k->snap->n - 1] = a[6][i], k->snap->rho[k->snap->n - 1] = a[7][i];
             continue;
         }
         prt_fluid_push(k->f, x, y, z, a[3][i], a[4][i], a[5][i]);
         k->f->id[k->f->n - 1] = id[i];
+        if (a[6]) k->f->p[k->f->n - 1] = a[6][i], k->f->rho[k->f->n - 1] = a[7][i];
     }
 }
 
@@ -132,6 +134,7 @@ pcd_plan *case_part_build(sl_case *c, const char *restart, const pcs_snapshot *h
             prev->time = heads[1].time;
             prev->dt = heads[1].dt;
             prev->step = heads[1].step;
+            prev->carried = heads[1].carried;
             scan(restart, heads, 1, &sc);
         }
         rst_scan_end();

@@ -45,8 +45,9 @@ int case_part_applies(const sl_case *c, int restarting);
 void case_part_census(sl_case *c);
 /* The rows and keep passes.  restart NULL: from the case; else the time
  * directory whose restart file (probed: heads[0..nsnaps), headers only)
- * holds the state, and prev (NULL: not wanted) receives this rank's part
- * of its second snapshot.  Returns the plan for pcs_init_part (free it
+ * holds the state (the own records into c->fluid, their carried p and
+ * rho too when the file has them), and prev (NULL: not wanted) receives
+ * this rank's part of its second snapshot.  Returns the plan for pcs_init_part (free it
  * with pcd_plan_free after). */
 pcd_plan *case_part_build(sl_case *c, const char *restart, const pcs_snapshot *heads, int nsnaps,
                           pcs_snapshot *prev);

@@ -1,5 +1,5 @@
 /* case_restart: the restart file <time>/uniform/restart (see case_restart.h):
- * format 3, in pieces with an index; format 2 in case_restart_v2.c. */
+ * formats 4 and 3, in pieces with an index; format 2 in case_restart_v2.c. */
 #include "case/case_restart.h"
 #include "case/case_restart_v2.h"
 #include "core/sl_mem.h"
@@ -15,6 +15,7 @@
 #include <zlib.h>
 
 #define RST_MAGIC3     RST_FAMILY "3"
+#define RST_MAGIC4     RST_FAMILY "4"
 #define RST_TAIL_MAGIC "SLUICE-RST-TAIL"
 
 typedef struct rst3_head {
@@ -48,7 +49,14 @@ typedef struct rst3_tail {
  * length. */
 #define TAIL_MEMBER (10 + 5 + sizeof(rst3_tail) + 8)
 
-static const char *const field_name[7] = {"x", "y", "z", "vx", "vy", "vz", "id"};
+/* A state's fields (format 3: the first 7) and the boundary's (format 4). */
+static const char *const field_name[RST_FIELDS] = {"x",  "y",  "z", "vx", "vy",
+                                                   "vz", "id", "p", "rho"};
+static const char *const bfield_name[RST_BFIELDS] = {"id", "p", "pt", "rho"};
+
+static size_t width_of(int j) { return j == 6 ? sizeof(uint32_t) : sizeof(double); }
+static size_t bwidth_of(int j) { return j == 0 ? sizeof(uint32_t) : sizeof(double); }
+static int fields_of(int version) { return version >= 4 ? RST_FIELDS : 7; }
 
 /* ---- counters ---- */
 
@@ -142,12 +150,12 @@ static int w3_member(w3 *w, const void *data, size_t len, rst3_entry *e)
     return 0;
 }
 
-static void bounds_of(const unsigned char *buf, size_t m, int field, rst3_entry *e)
+static void bounds_of(const unsigned char *buf, size_t m, size_t width, rst3_entry *e)
 {
     double lo = INFINITY, hi = -INFINITY;
     for (size_t i = 0; i < m; i++) {
         double v;
-        if (field < 6) memcpy(&v, buf + i * sizeof v, sizeof v);
+        if (width == sizeof v) memcpy(&v, buf + i * sizeof v, sizeof v);
         else {
             uint32_t u;
             memcpy(&u, buf + i * sizeof u, sizeof u);
@@ -163,19 +171,21 @@ static void bounds_of(const unsigned char *buf, size_t m, int field, rst3_entry 
     e->hi = hi;
 }
 
-/* A state's pieces: each field in pieces of RST_RECORDS records, read from
- * its source in order. */
-static int w3_state(w3 *w, const rst_state *s, unsigned char *buf, rst3_entry *e)
+/* Fields [0, nf) of n records from col[]: each field in pieces of
+ * RST_RECORDS records, read from its source in order (width: the bytes of
+ * a value of field j). */
+static int w3_fields(w3 *w, size_t n, const sl_source *col, int nf, size_t (*width)(int),
+                     unsigned char *buf, rst3_entry *e)
 {
-    const size_t nb = blocks_of(s->n, RST_RECORDS);
-    for (int j = 0; j < 7; j++) {
-        const size_t width = j < 6 ? sizeof(double) : sizeof(uint32_t);
+    const size_t nb = blocks_of(n, RST_RECORDS);
+    for (int j = 0; j < nf; j++) {
+        const size_t wd = width(j);
         for (size_t p = 0; p < nb; p++, e++) {
             const size_t r0 = p * RST_RECORDS;
-            const size_t m = s->n - r0 < RST_RECORDS ? s->n - r0 : RST_RECORDS;
-            s->col[j].read(s->col[j].ctx, r0 * width, m * width, buf);
-            bounds_of(buf, m, j, e);
-            if (w3_member(w, buf, m * width, e)) return -1;
+            const size_t m = n - r0 < RST_RECORDS ? n - r0 : RST_RECORDS;
+            col[j].read(col[j].ctx, r0 * wd, m * wd, buf);
+            bounds_of(buf, m, wd, e);
+            if (w3_member(w, buf, m * wd, e)) return -1;
         }
     }
     return 0;
@@ -199,24 +209,30 @@ static int w3_tail(w3 *w, const rst3_tail *t)
     return fwrite(m, 1, sizeof m, w->f) == sizeof m ? 0 : -1;
 }
 
-static int write3(const char *path, const rst_state *states, int nstates, const void *ctrl,
-                  size_t ctrl_size)
+/* Format `version` (3: a state's first 7 fields, no boundary; 4: every
+ * field and the boundary's, bnd NULL: none). */
+static int write3(const char *path, const rst_state *states, int nstates, const rst_bstate *bnd,
+                  const void *ctrl, size_t ctrl_size, int version)
 {
     w3 w = {0};
-    size_t ne = 0;
-    for (int k = 0; k < nstates; k++) ne += 7 * blocks_of(states[k].n, RST_RECORDS);
+    const int nf = fields_of(version);
+    const uint64_t nbnd = version >= 4 && bnd ? (uint64_t)bnd->n : 0;
+    size_t ne = (size_t)RST_BFIELDS * blocks_of(nbnd, RST_RECORDS);
+    for (int k = 0; k < nstates; k++) ne += (size_t)nf * blocks_of(states[k].n, RST_RECORDS);
     rst3_entry *e = sl_calloc(ne ? ne : 1, sizeof *e, "restart index");
     unsigned char *buf = sl_malloc(RST_RECORDS * sizeof(double), "restart output");
-    unsigned char head[sizeof(rst3_head) + RST_MAX_SNAPSHOTS * sizeof(rst3_snap)];
+    unsigned char head[sizeof(rst3_head) + RST_MAX_SNAPSHOTS * sizeof(rst3_snap) + sizeof nbnd];
     rst3_head h = {.nsnaps = (uint64_t)nstates, .ctrl_size = ctrl_size, .records = RST_RECORDS};
     rst3_tail t;
     rst3_entry he, ie, ce;
-    memcpy(h.magic, RST_MAGIC3, strlen(RST_MAGIC3));
+    memcpy(h.magic, version >= 4 ? RST_MAGIC4 : RST_MAGIC3, strlen(RST_MAGIC3));
     memcpy(head, &h, sizeof h);
-    for (int k = 0; k < nstates; k++) {
+    size_t hl = sizeof h;
+    for (int k = 0; k < nstates; k++, hl += sizeof(rst3_snap)) {
         const rst3_snap s = {states[k].n, states[k].time, states[k].dt, states[k].step};
-        memcpy(head + sizeof h + (size_t)k * sizeof s, &s, sizeof s);
+        memcpy(head + hl, &s, sizeof s);
     }
+    if (version >= 4) memcpy(head + hl, &nbnd, sizeof nbnd), hl += sizeof nbnd;
     memset(&t, 0, sizeof t);
     memcpy(t.magic, RST_TAIL_MAGIC, strlen(RST_TAIL_MAGIC));
     int rc = deflateInit2(&w.z, 1, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) == Z_OK ? 0 : -1;
@@ -224,11 +240,13 @@ static int write3(const char *path, const rst_state *states, int nstates, const 
     w.out = sl_malloc(w.cap, "restart output");
     errno = 0;
     if (!rc && !(w.f = fopen(path, "wb"))) rc = -1;
-    if (!rc) rc = w3_member(&w, head, sizeof h + (size_t)nstates * sizeof(rst3_snap), &he);
-    for (int k = 0, at = 0; k < nstates && !rc; k++) {
-        rc = w3_state(&w, &states[k], buf, e + at);
-        at += (int)(7 * blocks_of(states[k].n, RST_RECORDS));
+    if (!rc) rc = w3_member(&w, head, hl, &he);
+    size_t at = 0;
+    for (int k = 0; k < nstates && !rc; k++) {
+        rc = w3_fields(&w, states[k].n, states[k].col, nf, width_of, buf, e + at);
+        at += (size_t)nf * blocks_of(states[k].n, RST_RECORDS);
     }
+    if (!rc && nbnd) rc = w3_fields(&w, bnd->n, bnd->col, RST_BFIELDS, bwidth_of, buf, e + at);
     if (!rc) rc = w3_member(&w, e, ne * sizeof *e, &ie);
     if (!rc) rc = w3_member(&w, ctrl, ctrl_size, &ce);
     if (!rc) {
@@ -252,22 +270,31 @@ static void read_memory(void *ctx, size_t off, size_t len, void *out)
 
 void rst_state_of(rst_state *st, const pcs_snapshot *s)
 {
-    const void *a[7] = {s->x, s->y, s->z, s->vx, s->vy, s->vz, s->id};
+    const void *a[RST_FIELDS] = {s->x, s->y, s->z, s->vx, s->vy, s->vz, s->id, s->p, s->rho};
     st->n = s->n;
     st->time = s->time;
     st->dt = s->dt;
     st->step = s->step;
-    for (int k = 0; k < 7; k++) st->col[k] = (sl_source){read_memory, (void *)a[k], NULL};
+    for (int k = 0; k < RST_FIELDS; k++) st->col[k] = (sl_source){read_memory, (void *)a[k], NULL};
 }
 
-int rst_write_states(const char *dir, const rst_state *states, int nstates, const void *ctrl,
-                     size_t ctrl_size, sl_err *err)
+void rst_bstate_of(rst_bstate *st, const sl_boundary *b)
+{
+    const void *a[RST_BFIELDS] = {b->id, b->p, b->pt, b->rho};
+    st->n = b->n;
+    for (int k = 0; k < RST_BFIELDS; k++) st->col[k] = (sl_source){read_memory, (void *)a[k], NULL};
+}
+
+int rst_write_states(const char *dir, const rst_state *states, int nstates, const rst_bstate *bnd,
+                     const void *ctrl, size_t ctrl_size, sl_err *err)
 {
     const char *v = getenv("SLUICE_RESTART_FORMAT");
-    if (v && *v && strcmp(v, "2") && strcmp(v, "3")) {
+    if (v && *v && strcmp(v, "2") && strcmp(v, "3") && strcmp(v, "4")) {
         sl_err_set(err,
-                   "SLUICE_RESTART_FORMAT=%s: 3 (the default: pieces with an index) or 2 (one "
-                   "stream, for a Sluice that reads format 2 only)",
+                   "SLUICE_RESTART_FORMAT=%s: 4 (the default: pieces with an index, the "
+                   "pressures carried between steps included), 3 (without them, for a Sluice "
+                   "that reads formats 2 and 3 only) or 2 (one stream, for a Sluice that reads "
+                   "format 2 only)",
                    v);
         return 1;
     }
@@ -276,7 +303,8 @@ int rst_write_states(const char *dir, const rst_state *states, int nstates, cons
     rst_scan_end();
     int rc;
     if (v && !strcmp(v, "2")) rc = rst2_write(path, states, nstates, ctrl, ctrl_size, err);
-    else if ((rc = write3(path, states, nstates, ctrl, ctrl_size)) != 0)
+    else if ((rc = write3(path, states, nstates, bnd, ctrl, ctrl_size,
+                          v && !strcmp(v, "3") ? 3 : 4)) != 0)
         sl_err_set(err, "cannot write '%s': %s", path, strerror(errno ? errno : EIO));
     free(path);
     return rc ? 1 : 0;
@@ -291,7 +319,7 @@ int rst_write(const char *dir, const pcs_snapshot *const *snaps, int nsnaps, con
         return 1;
     }
     for (int k = 0; k < nsnaps; k++) rst_state_of(&st[k], snaps[k]);
-    return rst_write_states(dir, st, nsnaps, ctrl, ctrl_size, err);
+    return rst_write_states(dir, st, nsnaps, NULL, ctrl, ctrl_size, err);
 }
 
 /* ---- reading format 3 ---- */
@@ -304,6 +332,9 @@ typedef struct r3 {
     rst3_snap s[RST_MAX_SNAPSHOTS];
     rst3_entry *e;
     size_t ne, base[RST_MAX_SNAPSHOTS], nb[RST_MAX_SNAPSHOTS];
+    int version, nf;   /* 3 or 4; fields per state */
+    uint64_t nbnd;     /* boundary records (format 4) */
+    size_t bbase, bnb; /* their first entry, blocks */
     z_stream z;
     int zok;
     unsigned char *in;
@@ -403,19 +434,24 @@ static rst_status r3_tail(r3 *r, sl_err *err)
     return RST_OK;
 }
 
-/* The head: the number of states, their headers. */
+/* The head: the number of states, their headers (format 4: and the
+ * boundary's records). */
 static rst_status r3_head(r3 *r, sl_err *err)
 {
-    unsigned char b[sizeof(rst3_head) + RST_MAX_SNAPSHOTS * sizeof(rst3_snap)];
+    unsigned char b[sizeof(rst3_head) + RST_MAX_SNAPSHOTS * sizeof(rst3_snap) + sizeof(uint64_t)];
     size_t got;
     if (r3_member(r, 0, r->t.head_len, r->t.head_crc, b, sizeof b, &got, "its header", err))
         return RST_DAMAGED;
     if (got < sizeof r->h) return damaged(r, err, "its header is short");
     memcpy(&r->h, b, sizeof r->h);
     const rst3_head *h = &r->h;
-    if (memcmp(h->magic, RST_MAGIC3, sizeof h->magic) || h->nsnaps < 1 ||
-        h->nsnaps > RST_MAX_SNAPSHOTS || h->records < 1 || h->records > (1u << 24) ||
-        got != sizeof *h + h->nsnaps * sizeof(rst3_snap))
+    r->version = !memcmp(h->magic, RST_MAGIC4, sizeof h->magic) ? 4
+        : !memcmp(h->magic, RST_MAGIC3, sizeof h->magic)        ? 3
+                                                                : 0;
+    r->nf = fields_of(r->version);
+    const size_t ext = r->version >= 4 ? sizeof r->nbnd : 0;
+    if (!r->version || h->nsnaps < 1 || h->nsnaps > RST_MAX_SNAPSHOTS || h->records < 1 ||
+        h->records > (1u << 24) || got != sizeof *h + h->nsnaps * sizeof(rst3_snap) + ext)
         return damaged(r, err, "its header");
     size_t ne = 0;
     for (size_t k = 0; k < h->nsnaps; k++) {
@@ -423,8 +459,14 @@ static rst_status r3_head(r3 *r, sl_err *err)
         if (r->s[k].n > ((uint64_t)1 << 34)) return damaged(r, err, "its header");
         r->base[k] = ne;
         r->nb[k] = blocks_of(r->s[k].n, h->records);
-        ne += 7 * r->nb[k];
+        ne += (size_t)r->nf * r->nb[k];
     }
+    r->nbnd = 0;
+    if (ext) memcpy(&r->nbnd, b + sizeof *h + h->nsnaps * sizeof(rst3_snap), ext);
+    if (r->nbnd > ((uint64_t)1 << 34)) return damaged(r, err, "its header");
+    r->bbase = ne;
+    r->bnb = blocks_of(r->nbnd, h->records);
+    ne += (size_t)RST_BFIELDS * r->bnb;
     if (ne != r->t.entries || ne * sizeof(rst3_entry) > (1u << 31))
         return damaged(r, err, "its index does not match its header");
     r->ne = ne;
@@ -470,8 +512,18 @@ static int r3_piece(r3 *r, size_t k, int j, size_t p, void *out, sl_err *err)
     char what[160];
     snprintf(what, sizeof what, "state %zu, field %s, records %llu-%llu", k + 1, field_name[j],
              (unsigned long long)r0, (unsigned long long)(r0 + m - 1));
-    return r3_member(r, e->off, e->len, e->crc, out,
-                     (size_t)m * (j < 6 ? sizeof(double) : sizeof(uint32_t)), NULL, what, err);
+    return r3_member(r, e->off, e->len, e->crc, out, (size_t)m * width_of(j), NULL, what, err);
+}
+
+/* Piece p of the boundary's field j (format 4) into out. */
+static int r3_bpiece(r3 *r, int j, size_t p, void *out, sl_err *err)
+{
+    const rst3_entry *e = &r->e[r->bbase + (size_t)j * r->bnb + p];
+    const uint64_t R = r->h.records, r0 = p * R, m = r->nbnd - r0 < R ? r->nbnd - r0 : R;
+    char what[160];
+    snprintf(what, sizeof what, "boundary, field %s, records %llu-%llu", bfield_name[j],
+             (unsigned long long)r0, (unsigned long long)(r0 + m - 1));
+    return r3_member(r, e->off, e->len, e->crc, out, (size_t)m * bwidth_of(j), NULL, what, err);
 }
 
 /* Every piece of state k, into s's arrays (s NULL: decompressed and
@@ -488,13 +540,19 @@ static int r3_state(r3 *r, size_t k, pcs_snapshot *s, sl_err *err)
         snap_take(s, &tmp, r->s[k].time, r->s[k].dt, (long)r->s[k].step);
         prt_fluid_free(&tmp);
     }
-    double *a[6] = {NULL};
-    if (s) a[0] = s->x, a[1] = s->y, a[2] = s->z, a[3] = s->vx, a[4] = s->vy, a[5] = s->vz;
+    double *a[RST_FIELDS] = {NULL};
+    if (s) {
+        a[0] = s->x, a[1] = s->y, a[2] = s->z, a[3] = s->vx, a[4] = s->vy, a[5] = s->vz;
+        a[7] = s->p, a[8] = s->rho;
+        s->carried = r->nf == RST_FIELDS;
+        if (!s->carried && n)
+            memset(s->p, 0, n * sizeof *s->p), memset(s->rho, 0, n * sizeof *s->rho);
+    }
     int rc = 0;
-    for (int j = 0; j < 7 && !rc; j++)
+    for (int j = 0; j < r->nf && !rc; j++)
         for (size_t p = 0; p < r->nb[k] && !rc; p++) {
             void *to = scratch;
-            if (s && j < 6) to = a[j] + p * R;
+            if (s && j != 6) to = a[j] + p * R;
             else if (s) to = s->id + p * R;
             rc = r3_piece(r, k, j, p, to, err);
         }
@@ -542,9 +600,17 @@ static rst_status read3(const char *path, pcs_snapshot *snaps, int max, int *nsn
             snaps[k].time = r->s[k].time;
             snaps[k].dt = r->s[k].dt;
             snaps[k].step = (long)r->s[k].step;
+            snaps[k].carried = r->nf == RST_FIELDS;
         }
         if (arrays && r3_state(r, k, keep ? &snaps[k] : NULL, err)) st = RST_DAMAGED;
         *nsnaps += keep;
+    }
+    if (arrays && st == RST_OK && r->bnb) { /* the boundary's pieces: checked */
+        void *scratch = sl_malloc((size_t)r->h.records * sizeof(double), "restart input");
+        for (int j = 0; j < RST_BFIELDS && st == RST_OK; j++)
+            for (size_t p = 0; p < r->bnb && st == RST_OK; p++)
+                if (r3_bpiece(r, j, p, scratch, err)) st = RST_DAMAGED;
+        free(scratch);
     }
     if (st == RST_OK) {
         void *to = ctrl ? ctrl : sl_malloc(r->h.ctrl_size ? (size_t)r->h.ctrl_size : 1, "restart");
@@ -586,10 +652,11 @@ static int format_of(const char *path, rst_status *st, sl_err *err)
                                                      : "it ends early");
     } else if (!memcmp(magic, RST_MAGIC2, sizeof magic)) v = 2;
     else if (!memcmp(magic, RST_MAGIC3, sizeof magic)) v = 3;
+    else if (!memcmp(magic, RST_MAGIC4, sizeof magic)) v = 4;
     else if (!memcmp(magic, RST_FAMILY, strlen(RST_FAMILY))) {
         sl_err_set(err,
                    "restart file '%s' was written by another version of Sluice (format %.1s, "
-                   "this one reads formats 2 and 3)",
+                   "this one reads formats 2, 3 and 4)",
                    path, magic + strlen(RST_FAMILY));
         *st = RST_OTHER_VERSION;
     } else sl_err_set(err, "restart file '%s' is damaged (no Sluice restart header)", path);
@@ -607,7 +674,7 @@ static rst_status read_file(const char *dir, pcs_snapshot *snaps, int max, int *
     rst_scan_end();
     clock_start();
     const int v = format_of(path, &st, err);
-    if (v == 3) st = read3(path, snaps, max, nsnaps, ctrl, ctrl_size, arrays, err);
+    if (v >= 3) st = read3(path, snaps, max, nsnaps, ctrl, ctrl_size, arrays, err);
     else if (v == 2) {
         gzFile g = gzopen(path, "rb");
         st = g ? rst2_read(g, path, snaps, max, nsnaps, ctrl, ctrl_size, arrays, err) : RST_MISSING;
@@ -656,10 +723,10 @@ static int scan3(const char *path, const pcs_snapshot *snaps, int k, const rst_s
         b0 = nb * (size_t)sel->part / (size_t)sel->parts;
         b1 = nb * (size_t)(sel->part + 1) / (size_t)sel->parts;
     }
-    const int all = !sel || !sel->positions;
-    double *a[6] = {NULL};
+    const int all = !sel || !sel->positions, nd = all ? (r->nf == RST_FIELDS ? 8 : 6) : 3;
+    double *a[8] = {NULL};
     uint32_t *id = all ? sl_malloc(R * sizeof *id, "restart chunk") : NULL;
-    for (int j = 0; j < (all ? 6 : 3); j++) a[j] = sl_malloc(R * sizeof *a[j], "restart chunk");
+    for (int j = 0; j < nd; j++) a[j] = sl_malloc(R * sizeof *a[j], "restart chunk");
     int rc = 0;
     for (size_t p = b0; p < b1 && !rc; p++) {
         const size_t m = n - p * R < R ? n - p * R : R;
@@ -680,9 +747,10 @@ static int scan3(const char *path, const pcs_snapshot *snaps, int k, const rst_s
         }
         for (int j = 3; j < 6 && all && !rc; j++) rc = r3_piece(r, (size_t)k, j, p, a[j], err);
         if (!rc && all) rc = r3_piece(r, (size_t)k, 6, p, id, err);
+        for (int j = 6; j < nd && !rc; j++) rc = r3_piece(r, (size_t)k, j + 1, p, a[j], err);
         if (!rc) fn(ctx, m, (const double *const *)a, id);
     }
-    for (int j = 0; j < 6; j++) free(a[j]);
+    for (int j = 0; j < 8; j++) free(a[j]);
     free(id);
     if (rc) rst_scan_end();
     return rc ? 1 : 0;
@@ -695,9 +763,53 @@ int rst_scan(const char *dir, const pcs_snapshot *snaps, int k, const rst_select
     rst_status st;
     clock_start();
     const int v = open_path_ && !strcmp(open_path_, path) ? 3 : format_of(path, &st, err);
-    const int rc = v == 3 ? scan3(path, snaps, k, sel, fn, ctx, err)
+    const int rc = v >= 3 ? scan3(path, snaps, k, sel, fn, ctx, err)
         : v == 2          ? rst2_scan(path, snaps, k, sel, fn, ctx, err)
                           : 1;
+    clock_stop();
+    free(path);
+    return rc;
+}
+
+/* The boundary's records of a file of format 4, piece by piece. */
+static int bscan3(const char *path, rst_bchunk_fn fn, void *ctx, size_t *n, sl_err *err)
+{
+    if (!open_path_ || strcmp(open_path_, path)) {
+        rst_scan_end();
+        open_path_ = sl_malloc(strlen(path) + 1, "path");
+        strcpy(open_path_, path);
+        if (r3_open(&open_, open_path_, err) != RST_OK) {
+            rst_scan_end();
+            return 1;
+        }
+    }
+    r3 *r = &open_;
+    const size_t R = (size_t)r->h.records;
+    *n = (size_t)r->nbnd;
+    uint32_t *id = sl_malloc(R * sizeof *id, "restart chunk");
+    double *a[3];
+    for (int j = 0; j < 3; j++) a[j] = sl_malloc(R * sizeof *a[j], "restart chunk");
+    int rc = 0;
+    for (size_t p = 0; p < r->bnb && !rc; p++) {
+        const size_t m = *n - p * R < R ? *n - p * R : R;
+        rc = r3_bpiece(r, 0, p, id, err);
+        for (int j = 1; j < RST_BFIELDS && !rc; j++) rc = r3_bpiece(r, j, p, a[j - 1], err);
+        if (!rc) fn(ctx, m, id, a[0], a[1], a[2]);
+    }
+    for (int j = 0; j < 3; j++) free(a[j]);
+    free(id);
+    if (rc) rst_scan_end();
+    return rc ? 1 : 0;
+}
+
+int rst_scan_boundary(const char *dir, rst_bchunk_fn fn, void *ctx, size_t *n, sl_err *err)
+{
+    char *path = rst_path(dir, 0, err);
+    rst_status st;
+    clock_start();
+    *n = 0;
+    const int v = open_path_ && !strcmp(open_path_, path) ? 3 : format_of(path, &st, err);
+    const int rc = v >= 3 ? bscan3(path, fn, ctx, n, err) : v == 2 ? 0 : 1;
     clock_stop();
     free(path);
     return rc;

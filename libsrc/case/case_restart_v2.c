@@ -105,6 +105,7 @@ static int get_snapshot(gzFile g, pcs_snapshot *s, int keep)
         s->time = h.time;
         s->dt = h.dt;
         s->step = (long)h.step;
+        s->carried = 0;
     }
     if (keep != 1) return get(g, NULL, 6 * bytes + n * sizeof(uint32_t));
     sl_fluid tmp;
@@ -114,6 +115,8 @@ static int get_snapshot(gzFile g, pcs_snapshot *s, int keep)
     snap_take(s, &tmp, h.time, h.dt, (long)h.step);
     prt_fluid_free(&tmp);
     double *a[6] = {s->x, s->y, s->z, s->vx, s->vy, s->vz};
+    s->carried = 0; /* no p, rho in this format */
+    if (n) memset(s->p, 0, bytes), memset(s->rho, 0, bytes);
     int rc = 0;
     for (int k = 0; k < 6 && !rc; k++) rc = get(g, a[k], bytes);
     if (!rc) rc = get(g, s->id, n * sizeof *s->id);
@@ -200,7 +203,7 @@ int rst2_scan(const char *path, const pcs_snapshot *snaps, int k, const rst_sele
         if (!rc && F == 7) rc = get(g[6], id, m * sizeof *id);
         if (rc || i + m <= r0) continue;
         const size_t s = i < r0 ? r0 - i : 0; /* the part's first record in this chunk */
-        const double *b[6] = {NULL};
+        const double *b[8] = {NULL};
         for (int j = 0; j < 6; j++) b[j] = a[j] ? a[j] + s : NULL;
         fn(ctx, m - s, b, id ? id + s : NULL);
     }

@@ -1798,6 +1798,7 @@ void pcd_localize_snapshot(const pcs_solver *s, pcs_snapshot *snap)
         if (d->owner[row_of(s, d, snap->x[i], snap->y[i], snap->z[i])] != s->split.rank) continue;
         snap->x[j] = snap->x[i], snap->y[j] = snap->y[i], snap->z[j] = snap->z[i];
         snap->vx[j] = snap->vx[i], snap->vy[j] = snap->vy[i], snap->vz[j] = snap->vz[i];
+        snap->p[j] = snap->p[i], snap->rho[j] = snap->rho[i];
         snap->id[j] = snap->id[i];
         j++;
     }
@@ -2079,6 +2080,12 @@ static void out_pack(const pcs_solver *s, const struct pcd_out *o, int set, int 
                 case PCD_MASS:
                     v = b->mass[j];
                     break;
+                case PCD_PT:
+                    v = b->pt[j];
+                    break;
+                case PCD_ID:
+                    u = b->id[j];
+                    break;
                 case PCD_BODY:
                     u = b->body[j];
                     break;
@@ -2104,6 +2111,12 @@ static void out_pack(const pcs_solver *s, const struct pcd_out *o, int set, int 
                     break;
                 case PCD_VZ:
                     v = q->vz[i];
+                    break;
+                case PCD_P:
+                    v = q->p[i];
+                    break;
+                case PCD_RHO:
+                    v = q->rho[i];
                     break;
                 case PCD_ID:
                     u = q->id[i];

@@ -175,7 +175,8 @@ enum {
     PCD_NY,
     PCD_NZ,
     PCD_MASS,
-    PCD_BODY
+    PCD_BODY,
+    PCD_PT /* boundary: p / rho^2 (restart files) */
 };
 int pcd_output_begin(pcs_solver *s, const pcs_snapshot *prev);
 const sl_source *pcd_output_source(pcs_solver *s, int set, int ncomp, int c0, int c1, int c2);

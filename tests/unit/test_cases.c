@@ -254,6 +254,52 @@ static void test_restart_bit_identical(void **state)
     free(r.row);
 }
 
+/* pressureSource divergence, warm-started: each step starts from the last
+ * step's pressures, and every boundary particle keeps the last values it
+ * was given (boundary.vtu shows them): the restart file (format 4)
+ * carries them, and a run stopped at 0.03 s and restarted gives the
+ * uninterrupted run's 0.06 s files, fluid.vtu and boundary.vtu, bit for
+ * bit, on another thread count.  A file of format 3 (without them) still
+ * restarts, says so in the log, and the files differ (what the test
+ * would see if the pressures were lost). */
+static void test_restart_warm_start(void **state)
+{
+    (void)state;
+    const char *edit = "sed -i 's/^endTime .*/endTime 0.06;/; s/^writeInterval .*/writeInterval "
+                       "0.03;/; s/^numberOfThreads .*/numberOfThreads 2;/' system/controlDict && "
+                       "echo 'pressureSource divergence;' >> constant/fluidProperties";
+    char first[1024], cmd[2048];
+    assert_int_equal(run_edited("tests/cases/damBreakShort", "warmA", edit), 0);
+    snprintf(first, sizeof first,
+             "%s && sed -i 's/^endTime .*/endTime 0.03;/; s/^numberOfThreads .*/numberOfThreads "
+             "1;/' system/controlDict",
+             edit);
+    assert_int_equal(run_edited("tests/cases/damBreakShort", "warmB", first), 0);
+    assert_int_equal(system("zcat tests/output/warmB/0.03/uniform/restart | head -c 16 | "
+                            "grep -q SLUICE-RESTART-4"),
+                     0);
+    snprintf(cmd, sizeof cmd,
+             "rm -rf tests/output/warmC && cp -r tests/output/warmB tests/output/warmC && "
+             "rm -rf tests/output/warmC/0.03 && (cd tests/output/warmC && "
+             "SLUICE_RESTART_FORMAT=3 %s/pcisph -case . -quiet > log.pcisph 2>&1) && "
+             "sed -i 's/^endTime .*/endTime 0.06;/; s/^startFrom .*/startFrom latestTime;/' "
+             "tests/output/warmB/system/controlDict tests/output/warmC/system/controlDict && "
+             "%s/pcisph -case tests/output/warmB -quiet > tests/output/warmB/log.restart 2>&1 && "
+             "%s/pcisph -case tests/output/warmC -quiet > tests/output/warmC/log.restart 2>&1",
+             bin_dir(), bin_dir(), bin_dir());
+    assert_int_equal(system(cmd), 0);
+    assert_true(
+        files_equal("tests/output/warmA/0.06/fluid.vtu", "tests/output/warmB/0.06/fluid.vtu"));
+    assert_true(files_equal("tests/output/warmA/0.06/boundary.vtu",
+                            "tests/output/warmB/0.06/boundary.vtu"));
+    assert_int_equal(system("grep -q 'holds no pressures: the warm start' "
+                            "tests/output/warmC/log.restart"),
+                     0);
+    assert_int_not_equal(system("grep -q 'holds no pressures' tests/output/warmB/log.restart"), 0);
+    assert_false(
+        files_equal("tests/output/warmA/0.06/fluid.vtu", "tests/output/warmC/0.06/fluid.vtu"));
+}
+
 /* Same case, same result, whatever the thread count. */
 static void test_threads_bit_identical(void **state)
 {
@@ -347,9 +393,12 @@ int main(void)
         cmocka_unit_test(test_shock_adaptive),
         cmocka_unit_test(test_hydrostatic_adaptive),
         cmocka_unit_test(test_restart_bit_identical),
+        cmocka_unit_test(test_restart_warm_start),
         cmocka_unit_test(test_threads_bit_identical),
         cmocka_unit_test(test_cost_controller),
         cmocka_unit_test(test_cost_restart_and_threads),
     };
+    /* SLUICE_TEST_FILTER=test_restart* runs the matching tests only */
+    if (getenv("SLUICE_TEST_FILTER")) cmocka_set_test_filter(getenv("SLUICE_TEST_FILTER"));
     return cmocka_run_group_tests_name("cases", tests, NULL, NULL);
 }

@@ -22,7 +22,8 @@
  *  - Runs, restarts and the End summary (tests/cases copies under
  *    tests/output/functionObjects/runs/, one thread): a restart at an
  *    awkward time (writeInterval 0.0017, from 0.0187) and one right before
- *    a shock (which goes back past the restart time) give VTK files byte
+ *    a shock (which goes back past the restart time; also with the
+ *    warm-started divergence source) give VTK files byte
  *    for byte equal to an uninterrupted run's; with writeControl runTime a
  *    shorter run is the exact start of a longer one with another write
  *    interval; the state at endTime is always written; time names are
@@ -1374,22 +1375,20 @@ static void test_restart_awkward_time(void **state)
 
 /* Item 6: restarted right before a shock, the run goes back past the
  * restart time as the uninterrupted one does: the restart file keeps the
- * state at the start of the step before. */
-static void test_restart_before_shock(void **state)
+ * state at the start of the step before (with the warm-started divergence
+ * source, the pressures and densities it carries too: the rollback
+ * restores them).  edit: the case's edit; the write intervals tried, n of
+ * them; endTime end. */
+static void restart_before_shock(const char *edit, const double *intervals, int n,
+                                 const char *end_time)
 {
-    (void)state;
-    if (quick()) skip();
-    /* a write time right before a shock step (the step after the write
-     * shocks and goes back two steps, past the write): the case's own
-     * schedule first, then writes every 0.005 s (every other step) */
-    static const double intervals[] = {0.05, 0.005};
     double w = -1, wi = 0;
-    for (int i = 0; i < 2 && w < 0; i++) {
+    for (int i = 0; i < n && w < 0; i++) {
         char value[32];
         wi = intervals[i];
         snprintf(value, sizeof value, "%g", wi);
-        run_copy("highDrop", "shockA", "true");
-        control("shockA", "endTime", "0.85");
+        run_copy("highDrop", "shockA", edit);
+        control("shockA", "endTime", end_time);
         control("shockA", "writeInterval", value);
         free(solve("shockA", "", "run"));
         dat ts;
@@ -1406,11 +1405,11 @@ static void test_restart_before_shock(void **state)
     snprintf(end, sizeof end, "%.10g", w);
     char value[32];
     snprintf(value, sizeof value, "%g", wi);
-    run_copy("highDrop", "shockB", "true");
+    run_copy("highDrop", "shockB", edit);
     control("shockB", "writeInterval", value);
     control("shockB", "endTime", end);
     free(solve("shockB", "", "run"));
-    control("shockB", "endTime", "0.85");
+    control("shockB", "endTime", end_time);
     control("shockB", "startFrom", "latestTime");
     char *c = solve("shockB", "", "restart");
     dat rb;
@@ -1419,10 +1418,33 @@ static void test_restart_before_shock(void **state)
     dat_read(path, &rb);
     assert_true(rb.nrows > 2 && rb.v[0][7] == 1); /* the shock came, right away */
     dat_free(&rb);
-    int n = compare_from("shockA", "shockB", w);
-    print_message("restart from %g, a shock in the next step: %d time directories equal\n", w, n);
-    assert_true(n >= 2);
+    const int same = compare_from("shockA", "shockB", w);
+    print_message("restart from %g, a shock in the next step: %d time directories equal\n", w,
+                  same);
+    assert_true(same >= 2);
     free(c);
+}
+
+static void test_restart_before_shock(void **state)
+{
+    (void)state;
+    if (quick()) skip();
+    /* a write time right before a shock step (the step after the write
+     * shocks and goes back two steps, past the write): the case's own
+     * schedule first, then writes every 0.005 s (every other step) */
+    static const double intervals[] = {0.05, 0.005};
+    restart_before_shock("true", intervals, 2, "0.85");
+}
+
+/* The same with pressureSource divergence (warm-started): its shock at 0.7
+ * s comes right after a write every 0.0025 s. */
+static void test_restart_before_shock_warm(void **state)
+{
+    (void)state;
+    if (quick()) skip();
+    static const double intervals[] = {0.0025};
+    restart_before_shock("echo 'pressureSource divergence;' >> constant/fluidProperties", intervals,
+                         1, "0.75");
 }
 
 /* Item 16b: with writeControl runTime the steps do not depend on the write
@@ -1634,10 +1656,13 @@ int main(void)
         cmocka_unit_test(test_run_hydrostatic),
         cmocka_unit_test(test_restart_awkward_time),
         cmocka_unit_test(test_restart_before_shock),
+        cmocka_unit_test(test_restart_before_shock_warm),
         cmocka_unit_test(test_run_time_prefix),
         cmocka_unit_test(test_end_always_written),
         cmocka_unit_test(test_time_names_unique_and_true),
         cmocka_unit_test(test_summary_steps_taken),
     };
+    /* SLUICE_TEST_FILTER=test_restart* runs the matching tests only */
+    if (getenv("SLUICE_TEST_FILTER")) cmocka_set_test_filter(getenv("SLUICE_TEST_FILTER"));
     return cmocka_run_group_tests_name("function objects", tests, NULL, NULL);
 }

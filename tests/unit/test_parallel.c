@@ -4,8 +4,9 @@
  * without its wall-time column), for np 1, 2 and 3 (oversubscribed on a
  * 2-core machine) on a dam break, a rocking tank (moving boundary) and a
  * filling (emitter); restart files written by 2 ranks continued on 3 give
- * the uninterrupted serial run (format 3, and format 2 through the old
- * reader; a damaged piece is refused, naming the file); the filling's particles change rank both
+ * the uninterrupted serial run (format 4, also with the warm-started
+ * divergence source on the domain and halo modes, and format 2 through the
+ * old reader; a damaged piece is refused, naming the file); the filling's particles change rank both
  * ways, and its first steps leave ranks
  * without fluid rows; a periodic channel on 3 ranks gives the serial
  * files; 2 ranks x 2 threads the same; the halo mode (the default where
@@ -534,6 +535,51 @@ static void test_restart_2_then_3(void **state)
                      0);
 }
 
+/* pressureSource divergence, warm-started and gradient-corrected: restart
+ * files written by 2 ranks at 0.02 s (format 4: the pressures and
+ * densities carried between steps, the boundary's too) continued on 3
+ * ranks of the domain mode (each reads its own records and the boundary
+ * particles it stores) and on 3 of the halo mode: the uninterrupted serial
+ * run's 0.04 s files.  Uses parSrcDivSerial (test_pressure_source). */
+static void test_restart_warm_start_2_then_3(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    const char *first = "sed -i 's/^endTime .*/endTime 0.02;/; s/^writeInterval .*/writeInterval "
+                        "0.02;/; s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict && "
+                        "echo 'pressureSource { type divergence; warmStart on; gradientCorrection "
+                        "on; }' >> constant/fluidProperties";
+    char div[2048], cmd[2048];
+    if (system("test -f tests/output/parSrcDivSerial/0.04/boundary.vtu")) { /* run alone */
+        snprintf(div, sizeof div,
+                 "%s && echo 'pressureSource { type divergence; warmStart on; gradientCorrection "
+                 "on; }' >> constant/fluidProperties",
+                 dam);
+        assert_int_equal(run_np("tests/cases/damBreakShort", "parSrcDivSerial", div, 0), 0);
+    }
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parWarm", first, 2), 0);
+    snprintf(cmd, sizeof cmd,
+             "cd tests/output && rm -rf parWarmHalo && cp -r parWarm parWarmHalo && "
+             "sed -i 's/^endTime .*/endTime 0.04;/; s/^startFrom .*/startFrom latestTime;/' "
+             "parWarm/system/controlDict parWarmHalo/system/controlDict && "
+             "(cd parWarm && " MPIRUN "-np 3 %s/pcisph -case . -quiet -parallel > log.restart "
+             "2>&1) && (cd parWarmHalo && SLUICE_PARALLEL_EXCHANGE=halo " MPIRUN
+             "-np 3 %s/pcisph -case . -quiet -parallel > log.restart 2>&1) && "
+             "grep -q 'domain mode' parWarm/log.restart && grep -q 'halo mode' "
+             "parWarmHalo/log.restart && ! grep -q 'holds no pressures' parWarm/log.restart",
+             bin_dir(), bin_dir());
+    assert_int_equal(system(cmd), 0);
+    assert_int_equal(setup_in_parts("tests/output/parWarm/log.restart", 3, 1), 0);
+    const char *runs[2] = {"parWarm", "parWarmHalo"};
+    for (int k = 0; k < 2; k++) {
+        snprintf(cmd, sizeof cmd,
+                 "cd tests/output && cmp parSrcDivSerial/0.04/fluid.vtu %s/0.04/fluid.vtu && "
+                 "cmp parSrcDivSerial/0.04/boundary.vtu %s/0.04/boundary.vtu",
+                 runs[k], runs[k]);
+        assert_int_equal(system(cmd), 0);
+    }
+}
+
 /* Restart files of format 2 (the format before the pieces of format 3,
  * SLUICE_RESTART_FORMAT=2) written by 2 ranks, continued on 3: each rank
  * read its part through the old reader, and the serial run's files at the
@@ -814,6 +860,7 @@ int main(void)
         cmocka_unit_test(test_function_objects_reduced),
         cmocka_unit_test(test_domain_migration_rebalance),
         cmocka_unit_test(test_restart_2_then_3),
+        cmocka_unit_test(test_restart_warm_start_2_then_3),
         cmocka_unit_test(test_restart_old_format_2_then_3),
         cmocka_unit_test(test_restart_damaged_parallel),
         cmocka_unit_test(test_periodic),
@@ -822,5 +869,7 @@ int main(void)
         cmocka_unit_test(test_mpirun_without_parallel),
         cmocka_unit_test(test_decompose_case),
     };
+    /* SLUICE_TEST_FILTER=test_restart* runs the matching tests only */
+    if (getenv("SLUICE_TEST_FILTER")) cmocka_set_test_filter(getenv("SLUICE_TEST_FILTER"));
     return cmocka_run_group_tests_name("parallel", tests, NULL, NULL);
 }

@@ -36,6 +36,7 @@
 #include "case/case_restart.h"
 #include "solver/pcs_relax.h"
 #include "core/sl_log.h"
+#include "core/sl_mem.h"
 #include "core/sl_progress.h"
 #include "core/sl_threads.h"
 #include "functionObjects/fo.h"
@@ -303,12 +304,22 @@ static void gather_for(run *r, fo_list *fo)
  * (-parallel's domain mode, rank 0). */
 static void streamed_state(pcs_solver *s, int set, double time, double dt, long step, rst_state *st)
 {
-    const int cols[7] = {PCD_X, PCD_Y, PCD_Z, PCD_VX, PCD_VY, PCD_VZ, PCD_ID};
+    const int cols[RST_FIELDS] = {PCD_X,  PCD_Y,  PCD_Z, PCD_VX, PCD_VY,
+                                  PCD_VZ, PCD_ID, PCD_P, PCD_RHO};
     st->n = pcd_output_count(s, set);
     st->time = time;
     st->dt = dt;
     st->step = step;
-    for (int k = 0; k < 7; k++) st->col[k] = *pcd_output_source(s, set, 1, cols[k], 0, 0);
+    for (int k = 0; k < RST_FIELDS; k++) st->col[k] = *pcd_output_source(s, set, 1, cols[k], 0, 0);
+}
+
+/* The boundary's carried values streamed from their owners (rank 0). */
+static void streamed_boundary(pcs_solver *s, rst_bstate *st)
+{
+    const int cols[RST_BFIELDS] = {PCD_ID, PCD_P, PCD_PT, PCD_RHO};
+    st->n = pcd_output_count(s, PCD_SET_BOUNDARY);
+    for (int k = 0; k < RST_BFIELDS; k++)
+        st->col[k] = *pcd_output_source(s, PCD_SET_BOUNDARY, 1, cols[k], 0, 0);
 }
 
 /* Write time directory r->t (density recomputed from x(t), restart file
@@ -321,6 +332,7 @@ static void write_time(run *r)
     const double w0 = omp_get_wtime(), c0 = cpu_seconds();
     const pcs_run_state *prev = hist_last(&r->hist);
     rst_state st[2];
+    rst_bstate bst;
     const int nst = prev ? 2 : 1;
     pcs_compute_density(&r->s); /* sorts: the snapshot is taken after it */
     blob_pack(r);
@@ -332,15 +344,17 @@ static void write_time(run *r)
             if (prev)
                 streamed_state(&r->s, PCD_SET_PREV, prev->snap.time, prev->snap.dt, prev->snap.step,
                                &st[1]);
+            streamed_boundary(&r->s, &bst);
         }
     } else {
         snap_take(&r->wsnap, pcs_view_of(&r->s).f, r->t, r->s.dt, r->step);
         rst_state_of(&st[0], &r->wsnap);
         if (prev) rst_state_of(&st[1], &prev->snap);
+        rst_bstate_of(&bst, pcs_view_of(&r->s).b);
     }
     if (writer) {
         rec_flush(&r->rec);
-        if (out_write(&r->out, &r->s, r->t, st, nst, r->blob, r->blob_size, &err))
+        if (out_write(&r->out, &r->s, r->t, st, nst, &bst, r->blob, r->blob_size, &err))
             sl_fatal("%s", err.msg);
         if (r->s.split.domain) pcd_output_end(&r->s);
     }
@@ -455,6 +469,104 @@ static int restart_from_latest(run *r)
     r->restart_dir = dir;
     tdir_list_free(&l);
     return 1;
+}
+
+/* A boundary particle of this rank by creation index (restore_boundary). */
+typedef struct bnd_key {
+    uint32_t id, j;
+} bnd_key;
+
+static int cmp_bnd_key(const void *a, const void *b)
+{
+    const uint32_t x = ((const bnd_key *)a)->id, y = ((const bnd_key *)b)->id;
+    return (x > y) - (x < y);
+}
+
+typedef struct bnd_restore {
+    sl_boundary *b;
+    const bnd_key *keys;
+    size_t matched;
+} bnd_restore;
+
+static void restore_bchunk(void *ctx, size_t n, const uint32_t *id, const double *p,
+                           const double *pt, const double *rho)
+{
+    bnd_restore *k = ctx;
+    for (size_t i = 0; i < n; i++) {
+        const bnd_key want = {id[i], 0};
+        const bnd_key *at = bsearch(&want, k->keys, k->b->n, sizeof *k->keys, cmp_bnd_key);
+        if (!at) continue; /* another rank's (domain mode) */
+        k->b->p[at->j] = p[i];
+        k->b->pt[at->j] = pt[i];
+        k->b->rho[at->j] = rho[i];
+        k->matched++;
+    }
+}
+
+/* The boundary particles' pressure, p / rho^2 and density from the
+ * restart file (each rank the ones it stores, matched by creation index);
+ * returns 0 when the file has none (formats 2 and 3). */
+static int restore_boundary(run *r)
+{
+    sl_boundary *b = r->s.b;
+    sl_err err;
+    bnd_key *keys = sl_malloc((b->n + 1) * sizeof *keys, "boundary ids");
+    for (size_t j = 0; j < b->n; j++) keys[j] = (bnd_key){b->id[j], (uint32_t)j};
+    qsort(keys, b->n, sizeof *keys, cmp_bnd_key);
+    bnd_restore k = {b, keys, 0};
+    size_t n = 0;
+    if (rst_scan_boundary(r->restart_dir, restore_bchunk, &k, &n, &err))
+        sl_fatal("%s: this time directory cannot be continued (listTimes -check marks the damaged "
+                 "ones; remove it to restart from the one before, or set startFrom startTime)",
+                 err.msg);
+    rst_scan_end();
+    free(keys);
+    const size_t want = r->s.split.domain ? b->n : pcs_boundary_total(&r->s);
+    if (n && (k.matched != want || (!r->s.split.domain && n != b->n)))
+        sl_fatal("restart file '%s/uniform/restart' holds %zu boundary particles, %zu of this "
+                 "case's %zu found in it: written for a different case (its walls changed?)",
+                 r->restart_dir, n, k.matched, want);
+    return n > 0;
+}
+
+/* After the solver's set-up on a restart: the pressure and density each
+ * fluid particle carries to the next step (now: the file's first state,
+ * this rank's part; in the order of the solver's fluid), and the boundary
+ * particles' (the warm start of pressureSource divergence and mixed starts
+ * from them; boundary.vtu shows the last values of every boundary
+ * particle).  A file without them (formats 2 and 3) leaves p = 0 and rho =
+ * rho0, as a new run starts: said in the log. */
+static void restore_carried(run *r, pcs_snapshot *now)
+{
+    sl_fluid *f = r->s.f;
+    pcs_own_snapshot(&r->s, now); /* domain mode (set-up whole): this rank's, in its order */
+    const int fluid = now->carried, walls = restore_boundary(r);
+    if (fluid) {
+        if (now->n != f->n)
+            sl_fatal("restart: %zu fluid particles in the solver, %zu in the state read "
+                     "(internal error)",
+                     f->n, now->n);
+        for (size_t i = 0; i < f->n; i++) {
+            if (f->id[i] != now->id[i])
+                sl_fatal("restart: the solver's fluid is not in the order of the state read "
+                         "(internal error)");
+            f->p[i] = now->p[i];
+            f->rho[i] = now->rho[i];
+        }
+    }
+    if (fluid && walls) return;
+    const int warm = r->c.prm.source != PCS_SOURCE_DENSITY && r->c.prm.warm_start;
+    if (warm)
+        sl_warning("restart file '%s/uniform/restart' (an older format) holds no pressures: the "
+                   "warm start (pressureSource %s, warmStart on) starts from p = 0 and the "
+                   "boundary particles' pressures from 0, so this run continues but not as the "
+                   "uninterrupted run would (write it again with this Sluice to restart exactly)",
+                   r->restart_dir,
+                   r->c.prm.source == PCS_SOURCE_DIVERGENCE ? "divergence" : "mixed");
+    else
+        sl_info("Restart file of an older format: no boundary pressures in it; boundary.vtu "
+                "shows 0 for the boundary particles not active since the restart (the fluid "
+                "continues exactly)");
 }
 
 /* startFrom latestTime and a time directory to continue from (the
@@ -969,6 +1081,10 @@ int main(int argc, char **argv)
         plan =
             case_part_build(&r.c, restarted ? r.restart_dir : NULL, r.heads, r.nheads,
                             restarted && hist_last(&r.hist) ? &hist_slot(&r.hist, 0)->snap : NULL);
+    if (parts && restarted) { /* this rank's records, their carried values (restore_carried) */
+        snap_take(&r.wsnap, &r.c.fluid, r.t, r.ctl.dt, r.step);
+        r.wsnap.carried = r.heads[0].carried;
+    }
     if (restarted) log_restart_read(&r);
     if (!restarted) {
         ts_init(&r.ctl, case_initial_step(&r.c, rule, sizeof rule));
@@ -984,6 +1100,7 @@ int main(int argc, char **argv)
     pcs_place_world(&r.s, r.t);
     if (restarted && hist_last(&r.hist)) /* domain mode: this rank's part of it */
         pcs_own_snapshot(&r.s, &hist_slot(&r.hist, 0)->snap);
+    if (restarted) restore_carried(&r, &r.wsnap);
     print_world(&r, rule);
     r.t_end = r.c.ctl.end_time;
     r.wall0 = omp_get_wtime();
