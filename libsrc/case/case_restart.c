@@ -241,12 +241,19 @@ static int write3(const char *path, const rst_state *states, int nstates, const 
     errno = 0;
     if (!rc && !(w.f = fopen(path, "wb"))) rc = -1;
     if (!rc) rc = w3_member(&w, head, hl, &he);
+    /* the first state, the boundary (the boundary's at the first state's
+     * time), the others: the order -parallel's streamed writes read their
+     * arrays in is then the same with one state and with two (its prefetch
+     * guesses the next array from the last write's order) */
     size_t at = 0;
     for (int k = 0; k < nstates && !rc; k++) {
         rc = w3_fields(&w, states[k].n, states[k].col, nf, width_of, buf, e + at);
         at += (size_t)nf * blocks_of(states[k].n, RST_RECORDS);
+        if (!rc && k == 0 && nbnd) {
+            rc = w3_fields(&w, bnd->n, bnd->col, RST_BFIELDS, bwidth_of, buf, e + at);
+            at += (size_t)RST_BFIELDS * blocks_of(nbnd, RST_RECORDS);
+        }
     }
-    if (!rc && nbnd) rc = w3_fields(&w, bnd->n, bnd->col, RST_BFIELDS, bwidth_of, buf, e + at);
     if (!rc) rc = w3_member(&w, e, ne * sizeof *e, &ie);
     if (!rc) rc = w3_member(&w, ctrl, ctrl_size, &ce);
     if (!rc) {
@@ -453,20 +460,19 @@ static rst_status r3_head(r3 *r, sl_err *err)
     if (!r->version || h->nsnaps < 1 || h->nsnaps > RST_MAX_SNAPSHOTS || h->records < 1 ||
         h->records > (1u << 24) || got != sizeof *h + h->nsnaps * sizeof(rst3_snap) + ext)
         return damaged(r, err, "its header");
-    size_t ne = 0;
+    r->nbnd = 0;
+    if (ext) memcpy(&r->nbnd, b + sizeof *h + h->nsnaps * sizeof(rst3_snap), ext);
+    if (r->nbnd > ((uint64_t)1 << 34)) return damaged(r, err, "its header");
+    r->bnb = blocks_of(r->nbnd, h->records);
+    size_t ne = 0; /* the first state's pieces, the boundary's, the others' (write3) */
     for (size_t k = 0; k < h->nsnaps; k++) {
         memcpy(&r->s[k], b + sizeof *h + k * sizeof(rst3_snap), sizeof(rst3_snap));
         if (r->s[k].n > ((uint64_t)1 << 34)) return damaged(r, err, "its header");
         r->base[k] = ne;
         r->nb[k] = blocks_of(r->s[k].n, h->records);
         ne += (size_t)r->nf * r->nb[k];
+        if (k == 0) r->bbase = ne, ne += (size_t)RST_BFIELDS * r->bnb;
     }
-    r->nbnd = 0;
-    if (ext) memcpy(&r->nbnd, b + sizeof *h + h->nsnaps * sizeof(rst3_snap), ext);
-    if (r->nbnd > ((uint64_t)1 << 34)) return damaged(r, err, "its header");
-    r->bbase = ne;
-    r->bnb = blocks_of(r->nbnd, h->records);
-    ne += (size_t)RST_BFIELDS * r->bnb;
     if (ne != r->t.entries || ne * sizeof(rst3_entry) > (1u << 31))
         return damaged(r, err, "its index does not match its header");
     r->ne = ne;

@@ -25,10 +25,11 @@
  *   pieces  for each state, each field (x, y, z, vx, vy, vz: doubles; id:
  *           uint32; format 4: p, rho: doubles) in pieces of RST_RECORDS
  *           records, each piece its own member (records [p R, (p + 1) R)
- *           of that field); format 4: then the boundary's fields (id:
- *           uint32; p, pt = p / rho^2, rho: doubles) in the serial run's
- *           memory order (by cell and creation index: the order
- *           boundary.vtu lists them in), in pieces alike;
+ *           of that field); format 4: after the first state's pieces
+ *           the boundary's fields (id: uint32; p, pt = p / rho^2, rho:
+ *           doubles) in the serial run's memory order (by cell and
+ *           creation index: the order boundary.vtu lists them in), in
+ *           pieces alike;
  *   index   one entry per piece in file order: its offset, length, the
  *           CRC-32 of its bytes, the least and largest value it holds;
  *   state   the run's other state;
