@@ -149,8 +149,9 @@ typedef struct rst_select {
 int rst_scan(const char *dir, const pcs_snapshot *snaps, int k, const rst_select *sel,
              rst_chunk_fn fn, void *ctx, sl_err *err);
 /* The boundary's records (format 4), in file order, one piece at a time:
- * *n the number in the file (0 for formats 2 and 3: fn is not called);
- * 1 on an error (a damaged piece), naming the file. */
+ * *n the number in the file, set before fn is first called (0 for
+ * formats 2 and 3: fn is not called); 1 on an error (a damaged piece),
+ * naming the file. */
 typedef void (*rst_bchunk_fn)(void *ctx, size_t n, const uint32_t *id, const double *p,
                               const double *pt, const double *rho);
 int rst_scan_boundary(const char *dir, rst_bchunk_fn fn, void *ctx, size_t *n, sl_err *err);

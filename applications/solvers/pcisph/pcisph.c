@@ -486,12 +486,15 @@ typedef struct bnd_restore {
     sl_boundary *b;
     const bnd_key *keys;
     size_t matched;
+    const size_t *infile; /* the file's count (rst_scan_boundary's *n) */
+    size_t total;         /* the case's */
 } bnd_restore;
 
 static void restore_bchunk(void *ctx, size_t n, const uint32_t *id, const double *p,
                            const double *pt, const double *rho)
 {
     bnd_restore *k = ctx;
+    if (*k->infile != k->total) return; /* other walls: not restored (restore_boundary) */
     for (size_t i = 0; i < n; i++) {
         const bnd_key want = {id[i], 0};
         const bnd_key *at = bsearch(&want, k->keys, k->b->n, sizeof *k->keys, cmp_bnd_key);
@@ -505,7 +508,9 @@ static void restore_bchunk(void *ctx, size_t n, const uint32_t *id, const double
 
 /* The boundary particles' pressure, p / rho^2 and density from the
  * restart file (each rank the ones it stores, matched by creation index);
- * returns 0 when the file has none (formats 2 and 3). */
+ * returns 0 when the file has none (formats 2 and 3), or holds another
+ * number of boundary particles than the case (its walls were edited
+ * before the restart: a gate removed), which then start from 0. */
 static int restore_boundary(run *r)
 {
     sl_boundary *b = r->s.b;
@@ -513,19 +518,24 @@ static int restore_boundary(run *r)
     bnd_key *keys = sl_malloc((b->n + 1) * sizeof *keys, "boundary ids");
     for (size_t j = 0; j < b->n; j++) keys[j] = (bnd_key){b->id[j], (uint32_t)j};
     qsort(keys, b->n, sizeof *keys, cmp_bnd_key);
-    bnd_restore k = {b, keys, 0};
     size_t n = 0;
+    bnd_restore k = {b, keys, 0, &n, r->s.split.domain ? pcs_boundary_total(&r->s) : b->n};
     if (rst_scan_boundary(r->restart_dir, restore_bchunk, &k, &n, &err))
         sl_fatal("%s: this time directory cannot be continued (listTimes -check marks the damaged "
                  "ones; remove it to restart from the one before, or set startFrom startTime)",
                  err.msg);
     rst_scan_end();
     free(keys);
-    const size_t want = r->s.split.domain ? b->n : pcs_boundary_total(&r->s);
-    if (n && (k.matched != want || (!r->s.split.domain && n != b->n)))
-        sl_fatal("restart file '%s/uniform/restart' holds %zu boundary particles, %zu of this "
-                 "case's %zu found in it: written for a different case (its walls changed?)",
-                 r->restart_dir, n, k.matched, want);
+    if (n && n != k.total) {
+        sl_info("Restart file '%s/uniform/restart' holds %zu boundary particles, the case %zu (its "
+                "walls changed): the boundary particles' pressures and densities start from 0",
+                r->restart_dir, n, k.total);
+        return 1;
+    }
+    if (n && k.matched != b->n)
+        sl_fatal("restart: %zu of this rank's %zu boundary particles found in '%s/uniform/restart' "
+                 "(internal error)",
+                 k.matched, b->n, r->restart_dir);
     return n > 0;
 }
 
