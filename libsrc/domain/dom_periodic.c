@@ -59,7 +59,7 @@ void dom_halo_free(dom_halo *hl)
     free(hl->bsrc);
     free(hl->bcode);
     free(hl->bpos);
-    free(hl->bpair);
+    sl_free_aligned(hl->bpair); /* pcs_domain.c grows it aligned */
     memset(hl, 0, sizeof *hl);
 }
 

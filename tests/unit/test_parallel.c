@@ -599,7 +599,7 @@ static void test_restart_damaged_parallel(void **state)
  * particles lie, and makes the images itself, in the serial order): a
  * channel periodic along x on 2 and 3 ranks, and in the halo and gather
  * modes; a box periodic along x, y and z (images of images at the corners,
- * images across every cut) on 2 and 3; the channel with blocks of 2 cells
+ * images across every cut) on 2 and 3, and 2 ranks x 2 threads; the channel with blocks of 2 cells
  * (the cuts cross the periodic face: the block moving across it changes
  * rank, with the boundary images and their originals on other ranks) on 3
  * ranks, rebalanced; its restart files of 2 ranks continued on 3; with a
@@ -634,6 +634,9 @@ static void test_periodic(void **state)
     same_output("parBoxSerial", "parBox2");
     assert_int_equal(run_np("tests/cases/periodicBox", "parBox3", edit, 3), 0);
     same_output("parBoxSerial", "parBox3");
+    const char *threads = "sed -i 's/^numberOfThreads .*/numberOfThreads 2;/' system/controlDict";
+    assert_int_equal(run_np("tests/cases/periodicBox", "parBox2x2", threads, 2), 0);
+    same_output("parBoxSerial", "parBox2x2");
     assert_int_equal(system("grep -q 'parallel: domain mode' tests/output/parBox3/log.pcisph"), 0);
     /* blocks: cuts across the periodic face, rebalanced */
     setenv("SLUICE_GRID_UNIT", "block:2", 1);
