@@ -96,6 +96,7 @@ typedef struct run {
     ts_state ctl;
     pcs_history hist;   /* the state at the start of the last two steps */
     pcs_snapshot wsnap; /* state written with each time directory (reused) */
+    sl_boundary breal;  /* periodic: the real boundary's carried values (reused) */
     size_t eff_size;
     unsigned char *blob; /* run_state + the effects' states for restart files */
     size_t blob_size;
@@ -155,12 +156,12 @@ static void print_world(const run *r, const char *dt_rule)
     sl_info("Case %s", c->dir);
     sl_info("  fluid particles     %zu", pcs_fluid_total(s));
     sl_info("  boundary particles  %zu (%zu shapes, method %s)",
-            pcs_boundary_total(s) - c->boundary.nimages, c->nshapes, c->prm.method->name);
+            pcs_boundary_total(s) - s->halo.nb_img, c->nshapes, c->prm.method->name);
     if (c->prm.periodic.axes) {
         char ax[8];
         dom_periodic_axes_text(c->prm.periodic.axes, ax, sizeof ax);
         sl_info("  periodic            %s (%zu boundary images; fluid images every step)", ax,
-                c->boundary.nimages);
+                s->halo.nb_img);
     }
     sl_info("  particle spacing r0 %g m, support radius h %g m", c->prm.r0, s->h);
     sl_info("  particle mass       %g kg (rho0 r0^3), rho0 %g kg/m^3", s->mass, c->prm.rho0);
@@ -189,6 +190,12 @@ static void print_world(const run *r, const char *dt_rule)
                 s->split.domain ? "domain mode, each rank stores its own particles and their halo"
                     : s->split.halo ? "halo mode, replicated state"
                                     : "gather mode, replicated state");
+    const char *why =
+        r->parallel && s->split.halo && !s->split.domain && !getenv("SLUICE_PARALLEL_EXCHANGE")
+        ? pcd_periodic_refusal(s)
+        : NULL;
+    if (why)
+        sl_info("  periodic, parallel  the halo mode, not the domain mode: the case has %s", why);
 }
 
 /* The status line: simulated time against endTime, steps per second. */
@@ -322,6 +329,25 @@ static void streamed_boundary(pcs_solver *s, rst_bstate *st)
         st->col[k] = *pcd_output_source(s, PCD_SET_BOUNDARY, 1, cols[k], 0, 0);
 }
 
+/* The real boundary particles' carried values (periodic images left out,
+ * as boundary.vtu and the domain mode's streamed write leave them: an
+ * image's are its original's, copied before they are read), compacted in
+ * b's order into out (reused). */
+static void real_carried(const sl_boundary *b, sl_boundary *out)
+{
+    const uint32_t nreal = (uint32_t)(b->n - b->nimages);
+    prt_boundary_reserve(out, b->n + 1);
+    out->n = 0;
+    for (size_t j = 0; j < b->n; j++)
+        if (b->id[j] < nreal) {
+            const size_t q = out->n++;
+            out->id[q] = b->id[j];
+            out->p[q] = b->p[j];
+            out->pt[q] = b->pt[j];
+            out->rho[q] = b->rho[j];
+        }
+}
+
 /* Write time directory r->t (density recomputed from x(t), restart file
  * included); the record is flushed with it.  -parallel's domain mode:
  * rank 0 writes the files from every rank's part, streamed in the serial
@@ -350,7 +376,9 @@ static void write_time(run *r)
         snap_take(&r->wsnap, pcs_view_of(&r->s).f, r->t, r->s.dt, r->step);
         rst_state_of(&st[0], &r->wsnap);
         if (prev) rst_state_of(&st[1], &prev->snap);
-        rst_bstate_of(&bst, pcs_view_of(&r->s).b);
+        const sl_boundary *b = pcs_view_of(&r->s).b;
+        if (b->nimages) real_carried(b, &r->breal);
+        rst_bstate_of(&bst, b->nimages ? &r->breal : b);
     }
     if (writer) {
         rec_flush(&r->rec);
@@ -496,6 +524,7 @@ static void restore_bchunk(void *ctx, size_t n, const uint32_t *id, const double
     bnd_restore *k = ctx;
     if (*k->infile != k->total) return; /* other walls: not restored (restore_boundary) */
     for (size_t i = 0; i < n; i++) {
+        if (id[i] >= k->total) continue; /* damaged (an image's id: never written) */
         const bnd_key want = {id[i], 0};
         const bnd_key *at = bsearch(&want, k->keys, k->b->n, sizeof *k->keys, cmp_bnd_key);
         if (!at) continue; /* another rank's (domain mode) */
@@ -507,7 +536,8 @@ static void restore_bchunk(void *ctx, size_t n, const uint32_t *id, const double
 }
 
 /* The boundary particles' pressure, p / rho^2 and density from the
- * restart file (each rank the ones it stores, matched by creation index);
+ * restart file (each rank the real ones it stores, matched by creation
+ * index; periodic images get their originals' before they are read);
  * returns 0 when the file has none (formats 2 and 3), or holds another
  * number of boundary particles than the case (its walls were edited
  * before the restart: a gate removed), which then start from 0. */
@@ -518,8 +548,10 @@ static int restore_boundary(run *r)
     bnd_key *keys = sl_malloc((b->n + 1) * sizeof *keys, "boundary ids");
     for (size_t j = 0; j < b->n; j++) keys[j] = (bnd_key){b->id[j], (uint32_t)j};
     qsort(keys, b->n, sizeof *keys, cmp_bnd_key);
-    size_t n = 0;
-    bnd_restore k = {b, keys, 0, &n, r->s.split.domain ? pcs_boundary_total(&r->s) : b->n};
+    size_t n = 0, real = 0;
+    const size_t total = r->s.halo.nb_img ? r->s.halo.nb_real : pcs_boundary_total(&r->s);
+    for (size_t j = 0; j < b->n; j++) real += b->id[j] < total;
+    bnd_restore k = {b, keys, 0, &n, total};
     if (rst_scan_boundary(r->restart_dir, restore_bchunk, &k, &n, &err))
         sl_fatal("%s: this time directory cannot be continued (listTimes -check marks the damaged "
                  "ones; remove it to restart from the one before, or set startFrom startTime)",
@@ -532,10 +564,10 @@ static int restore_boundary(run *r)
                 r->restart_dir, n, k.total);
         return 1;
     }
-    if (n && k.matched != b->n)
+    if (n && k.matched != real)
         sl_fatal("restart: %zu of this rank's %zu boundary particles found in '%s/uniform/restart' "
                  "(internal error)",
-                 k.matched, b->n, r->restart_dir);
+                 k.matched, real, r->restart_dir);
     return n > 0;
 }
 
@@ -1051,6 +1083,7 @@ static void alloc_state(run *r)
 {
     hist_init(&r->hist, &r->c.effects);
     snap_init(&r->wsnap);
+    prt_boundary_init(&r->breal);
     r->eff_size = r->hist.eff_size;
     r->blob_size = sizeof(run_state) + 2 * r->eff_size;
     r->blob = calloc(1, r->blob_size);
@@ -1061,6 +1094,7 @@ static void free_state(run *r)
 {
     hist_free(&r->hist);
     snap_free(&r->wsnap);
+    prt_boundary_free(&r->breal);
     free(r->blob);
     free(r->restart_dir);
 }
@@ -1103,6 +1137,9 @@ int main(int argc, char **argv)
     r.session.t_first = r.t;
     r.session.sessions = 1;
     fo_list *fo = fo_read(&r.c);
+    for (size_t q = 0; q < fo_count(fo); q++) /* their copy on rank 0 has no periodic image */
+        if (!strcmp(fo_type_name(fo, q), "probes") || !strcmp(fo_type_name(fo, q), "waterGauges"))
+            r.c.prm.point_queries = 1;
     if (!restarted && r.c.packing.relaxed) relax(&r);
     pcs_init_part(&r.s, &r.c.prm, &r.c.fluid, &r.c.boundary, r.c.lo, r.c.hi, r.ctl.dt, &r.c.effects,
                   plan);
