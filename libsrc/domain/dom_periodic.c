@@ -59,6 +59,7 @@ void dom_halo_free(dom_halo *hl)
     free(hl->bsrc);
     free(hl->bcode);
     free(hl->bpos);
+    sl_free_aligned(hl->bpair); /* pcs_domain.c grows it aligned */
     memset(hl, 0, sizeof *hl);
 }
 
@@ -314,12 +315,20 @@ void dom_refresh_pressure(const dom_halo *hl, sl_fluid *f, sl_boundary *b)
         f->p[n + k] = f->p[s];
         f->pt[n + k] = f->pt[s];
     }
-    for (size_t q = 0; q < hl->nb_img; q++) {
-        const uint32_t j = hl->bpos[hl->nb_real + q], s = hl->bpos[hl->bsrc[q]];
-        b->rho[j] = b->rho[s];
-        b->p[j] = b->p[s];
-        b->pt[j] = b->pt[s];
-    }
+    if (hl->bpairs)
+        for (size_t q = 0; q < hl->nbpair; q++) {
+            const uint32_t j = hl->bpair[2 * q], s = hl->bpair[2 * q + 1];
+            b->rho[j] = b->rho[s];
+            b->p[j] = b->p[s];
+            b->pt[j] = b->pt[s];
+        }
+    else
+        for (size_t q = 0; q < hl->nb_img; q++) {
+            const uint32_t j = hl->bpos[hl->nb_real + q], s = hl->bpos[hl->bsrc[q]];
+            b->rho[j] = b->rho[s];
+            b->p[j] = b->p[s];
+            b->pt[j] = b->pt[s];
+        }
 }
 
 void dom_after_integrate(const dom_halo *hl, sl_fluid *f)

@@ -58,7 +58,14 @@ typedef struct dom_halo {
     size_t nb_real, nb_img; /* boundary: real particles (ids < nb_real) and images */
     uint32_t *bsrc;         /* id of the original of boundary image id nb_real + k */
     uint8_t *bcode;
-    uint32_t *bpos;    /* index of boundary id (after the last sort) */
+    uint32_t *bpos; /* index of boundary id (after the last sort) */
+    /* -parallel's domain mode (solver/pcs_domain.c): a rank stores a part of
+     * the boundary, and its images' originals among it; bpairs set: the
+     * refresh copies, for each pair, bpair[2k + 1] into bpair[2k] (local
+     * indices) instead of going through bpos */
+    int bpairs;
+    uint32_t *bpair;
+    size_t nbpair, bpair_cap;
     long steps;        /* statistics: searches with images */
     double images_sum; /* fluid images summed over them */
 } dom_halo;

@@ -11,10 +11,14 @@
  * step's dt v (V_j = m_j / rho0, fluid and boundary neighbours; D the
  * coefficient, h the support radius).  grad C_i is zero on a uniform
  * lattice and points towards crowded neighbours, so a particle moves into
- * the gaps.  The velocities are not corrected (the shift is small: its
- * velocity's Taylor term is second order).
+ * the gaps.  With velocityCorrection each particle's velocity is carried
+ * to its new position by its Taylor term (Xu et al. 2009, Lind et al.
+ * 2012), v_i <- v_i + (dr_i . grad) v_i, dr_i the shift, with the kernel
+ * gradient correction of Bonet & Lok (kernel/kernel_correction.h: exact
+ * for a linear field on any packing), at x(t) from every neighbour's v(t).
  *
- *   particleShifting { coefficient 0.1; }     // D, default 0.1
+ *   particleShifting { coefficient 0.1; velocityCorrection on; }
+ *       // D, default 0.1; velocityCorrection default on
  *
  * No free-surface treatment (there C falls off and grad C would push the
  * surface particles out of the fluid; Lind et al.'s surface rule is not

@@ -10,6 +10,7 @@
 #include "core/sl_log.h"
 #include "core/sl_mem.h"
 #include "core/sl_reduce.h"
+#include "kernel/kernel_correction.h"
 #include "kernel/sph_sums.h"
 #include "parallel/par.h"
 #include "solver/pcs_domain.h"
@@ -1059,36 +1060,18 @@ static void gradient_correction(pcs_solver *s)
         for (uint32_t q = s->ff.start[i]; q < s->ff.start[i + 1]; q++) {
             const uint32_t j = s->ff.idx[q];
             const double r[3] = {xi - f->x[j], yi - f->y[j], zi - f->z[j]};
-            const double g = vf * krn_gradf(&k, sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]));
-            for (int a = 0; a < 3; a++)
-                for (int c = 0; c < 3; c++) A[3 * a + c] -= g * r[a] * r[c];
+            krn_correction_add(A, vf * krn_gradf(&k, sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2])),
+                               r);
         }
         for (uint32_t q = s->fb.start[i]; q < s->fb.start[i + 1]; q++) {
             const uint32_t j = s->fb.idx[q];
             const double r[3] = {xi - b->x[j], yi - b->y[j], zi - b->z[j]};
-            const double g =
-                b->mass[j] * irho0 * krn_gradf(&k, sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]));
-            for (int a = 0; a < 3; a++)
-                for (int c = 0; c < 3; c++) A[3 * a + c] -= g * r[a] * r[c];
+            krn_correction_add(A,
+                               b->mass[j] * irho0 *
+                                   krn_gradf(&k, sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2])),
+                               r);
         }
-        const double c00 = A[4] * A[8] - A[5] * A[7], c01 = A[5] * A[6] - A[3] * A[8],
-                     c02 = A[3] * A[7] - A[4] * A[6];
-        const double det = A[0] * c00 + A[1] * c01 + A[2] * c02;
-        double *L = lc + 9 * i;
-        if (!(det > 0.125)) { /* a deficient neighbourhood: no correction */
-            for (int a = 0; a < 9; a++) L[a] = (a % 4 == 0) ? 1.0 : 0.0;
-            continue;
-        }
-        const double id = 1.0 / det;
-        L[0] = c00 * id;
-        L[1] = (A[2] * A[7] - A[1] * A[8]) * id;
-        L[2] = (A[1] * A[5] - A[2] * A[4]) * id;
-        L[3] = c01 * id;
-        L[4] = (A[0] * A[8] - A[2] * A[6]) * id;
-        L[5] = (A[2] * A[3] - A[0] * A[5]) * id;
-        L[6] = c02 * id;
-        L[7] = (A[1] * A[6] - A[0] * A[7]) * id;
-        L[8] = (A[0] * A[4] - A[1] * A[3]) * id;
+        krn_correction_invert(A, lc + 9 * i);
     }
 }
 

@@ -48,8 +48,10 @@ typedef struct pcs_params {
     double restitution;            /* becker2009: delta of eq. (7) */
     double mass_factor;            /* boundary masses times this (massFactor; 1: calibrated) */
     dom_periodic periodic;         /* periodic axes and their period (axes 0: none) */
-    int one_rank; /* 1: a solver of one rank's whole case even under -parallel (the relaxed
+    int one_rank;      /* 1: a solver of one rank's whole case even under -parallel (the relaxed
                    * packing, made alike on every rank before the split) */
+    int point_queries; /* function objects query points (probes, waterGauges): under -parallel
+                        * a periodic case keeps the halo mode (pcd_periodic_refusal) */
     /* pressureSource (constant/fluidProperties): what the pressure update of
      * eq. (3) corrects.  PCS_SOURCE_DENSITY (the paper's): the predicted
      * density error rho*_i - rho0.  PCS_SOURCE_DIVERGENCE: the predicted

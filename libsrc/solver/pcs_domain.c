@@ -36,6 +36,15 @@ struct pcs_domain {
     int *owner;                      /* of each piece */
     uint32_t *nstart, *nrank, *mark; /* ranks whose halo holds piece k: nrank[nstart[k]..) */
     size_t nrank_cap;
+    /* periodic axes: the pieces where the images of piece k's particles
+     * may lie, ipiece[istart[k]..istart[k+1]) (conservative: the cells a
+     * shifted band of the piece meets, a cell either way), for the pieces
+     * iface[0..nface) that have any; a rank's halo holds a piece when one
+     * of its image pieces is an own or halo piece of the rank (iadd:
+     * scratch).  NULL: no periodic axis. */
+    uint32_t *istart, *ipiece, *iface, *iadd;
+    size_t nface;
+    size_t nb_real; /* boundary ids below it are real, the others periodic images */
     long *rowcount, *cnt_p, *all_n, *all_s;
     double threshold, imb_after;
     int *dest;
@@ -59,7 +68,7 @@ struct pcs_domain {
      * distribution sends them to their new owner with their last density
      * and pressure (their owner computed them: the own cells' lists are
      * complete), so the owner's values are the serial ones. */
-    size_t nb_global, nb_own;
+    size_t nb_global, nb_own, nb_own_real;
     uint32_t *bown;
     size_t bown_cap;
     int bmoving; /* the walls move (a movingBoundary effect): distributed every step */
@@ -309,6 +318,21 @@ static void build_need(struct pcs_domain *d, int p)
             need_pass np = {pass, q, (uint32_t)(pass * p + q + 1)};
             for (size_t k = d->cut[q] * d->upieces; k < d->cut[q + 1] * d->upieces; k++)
                 near_pieces(d, k, d->depth, need_one, &np);
+            /* periodic: the pieces whose images lie in an own or halo piece
+             * (decided against the halo above, then added) */
+            size_t na = 0;
+            for (size_t f = 0; f < d->nface; f++) {
+                const uint32_t k = d->iface[f];
+                if (d->owner[k] == q || d->mark[k] == np.st) continue;
+                for (uint32_t e = d->istart[k]; e < d->istart[k + 1]; e++) {
+                    const uint32_t i = d->ipiece[e];
+                    if (d->owner[i] == q || d->mark[i] == np.st) {
+                        d->iadd[na++] = k;
+                        break;
+                    }
+                }
+            }
+            for (size_t a = 0; a < na; a++) need_one(d, d->iadd[a], &np);
         }
         if (pass == 0) {
             for (size_t k = 0; k < d->npieces; k++) d->nstart[k + 1] += d->nstart[k];
@@ -319,6 +343,111 @@ static void build_need(struct pcs_domain *d, int p)
     /* the fill advanced each start to the next piece's: shift back */
     for (size_t k = d->npieces; k > 0; k--) d->nstart[k] = d->nstart[k - 1];
     d->nstart[0] = 0;
+}
+
+/* The cell of coordinate v along axis a, clamped as the grid clamps. */
+static int clamp_coord(const nbr_grid *g, int a, double v)
+{
+    const double c = floor((v - g->lo[a]) * g->inv_cell);
+    return c < 0.0 ? 0 : c > g->nc[a] - 1 ? g->nc[a] - 1 : (int)c;
+}
+
+/* The cells [r0, r1] along axis a that the images of the points of [A,
+ * B) within h of a periodic face (band -1: the face lo, images at +L; +1:
+ * the face hi, images at -L) may lie in, a cell more either way for
+ * rounding; 0 when the piece meets no such band. */
+static int band_cells(const nbr_grid *g, const dom_periodic *per, double h, int a, int band,
+                      double A, double B, int *r0, int *r1)
+{
+    const double L = per->hi[a] - per->lo[a], e = 1e-9 * L + 1e-12;
+    const double b0 = band < 0 ? per->lo[a] - e : per->hi[a] - h - e;
+    const double b1 = band < 0 ? per->lo[a] + h + e : per->hi[a] + e;
+    const double lo = A > b0 ? A : b0, hi = B < b1 ? B : b1;
+    if (!(lo < hi)) return 0;
+    const double s = band < 0 ? L : -L;
+    *r0 = clamp_coord(g, a, lo + s) - 1;
+    *r1 = clamp_coord(g, a, hi + s) + 1;
+    *r0 = *r0 < 0 ? 0 : *r0;
+    *r1 = *r1 > g->nc[a] - 1 ? g->nc[a] - 1 : *r1;
+    return 1;
+}
+
+static int cmp_u32(const void *a, const void *b);
+
+/* Piece k's image pieces (sorted, distinct) into out (room for cap);
+ * returns how many (possibly more than cap: then call again with room). */
+static size_t image_pieces(const struct pcs_domain *d, const nbr_grid *g, const dom_periodic *per,
+                           double h, size_t k, uint32_t *out, size_t cap)
+{
+    const size_t l = d->plin[k], n0 = (size_t)d->pn[0], n01 = n0 * (size_t)d->pn[1];
+    const int pc[3] = {(int)(l % n0), (int)(l % n01 / n0), (int)(l / n01)};
+    int opt[3][3][2], nopt[3];
+    for (int a = 0; a < 3; a++) {
+        const int c0 = d->pn[a] == 1 ? 0 : pc[a], c1 = d->pn[a] == 1 ? g->nc[a] - 1 : pc[a];
+        opt[a][0][0] = c0, opt[a][0][1] = c1;
+        nopt[a] = 1;
+        if (!(per->axes & (1u << a))) continue;
+        const double A = c0 == 0 ? -HUGE_VAL : g->lo[a] + c0 * g->cell;
+        const double B = c1 == g->nc[a] - 1 ? HUGE_VAL : g->lo[a] + (c1 + 1) * g->cell;
+        for (int band = -1; band <= 1; band += 2)
+            if (band_cells(g, per, h, a, band, A, B, &opt[a][nopt[a]][0], &opt[a][nopt[a]][1]))
+                nopt[a]++;
+    }
+    size_t m = 0;
+    for (int i0 = 0; i0 < nopt[0]; i0++)
+        for (int i1 = 0; i1 < nopt[1]; i1++)
+            for (int i2 = 0; i2 < nopt[2]; i2++) {
+                if (!i0 && !i1 && !i2) continue; /* no shift: the piece itself */
+                const int *r[3] = {opt[0][i0], opt[1][i1], opt[2][i2]};
+                int lo[3], hi[3];
+                for (int a = 0; a < 3; a++) {
+                    lo[a] = d->pn[a] == 1 ? 0 : r[a][0];
+                    hi[a] = d->pn[a] == 1 ? 0 : r[a][1];
+                }
+                for (int z = lo[2]; z <= hi[2]; z++)
+                    for (int y = lo[1]; y <= hi[1]; y++)
+                        for (int x = lo[0]; x <= hi[0]; x++) {
+                            if (m < cap)
+                                out[m] = d->kof[(size_t)x + n0 * (size_t)y + n01 * (size_t)z];
+                            m++;
+                        }
+            }
+    if (m > cap) return m;
+    qsort(out, m, sizeof *out, cmp_u32);
+    size_t u = 0;
+    for (size_t q = 0; q < m; q++) /* the piece itself is stored with it anyway */
+        if ((!u || out[u - 1] != out[q]) && out[q] != k) out[u++] = out[q];
+    return u;
+}
+
+/* The image pieces of every piece (periodic axes; nothing otherwise). */
+static void periodic_pieces(struct pcs_domain *d, const nbr_grid *g, const dom_periodic *per,
+                            double h)
+{
+    if (!per || !per->axes) return;
+    size_t cap = 64, total = 0, tcap = 1024;
+    uint32_t *one = sl_malloc(cap * sizeof *one, "periodic pieces");
+    d->istart = sl_calloc(d->npieces + 1, sizeof *d->istart, "periodic pieces");
+    d->ipiece = sl_malloc(tcap * sizeof *d->ipiece, "periodic pieces");
+    d->iface = sl_malloc((d->npieces + 1) * sizeof *d->iface, "periodic pieces");
+    d->nface = 0;
+    for (size_t k = 0; k < d->npieces; k++) {
+        size_t m;
+        while ((m = image_pieces(d, g, per, h, k, one, cap)) > cap) {
+            cap = 2 * m;
+            one = sl_realloc(one, cap * sizeof *one, "periodic pieces");
+        }
+        if (total + m > tcap) {
+            tcap = 2 * (total + m);
+            d->ipiece = sl_realloc(d->ipiece, tcap * sizeof *d->ipiece, "periodic pieces");
+        }
+        memcpy(d->ipiece + total, one, m * sizeof *one);
+        total += m;
+        d->istart[k + 1] = (uint32_t)total;
+        if (m) d->iface[d->nface++] = (uint32_t)k;
+    }
+    d->iadd = sl_malloc((d->nface + 1) * sizeof *d->iadd, "periodic pieces");
+    free(one);
 }
 
 /* Cuts from the fluid count of each unit: rank r's first unit is where
@@ -372,6 +501,45 @@ static void own_boundary_list(const pcs_solver *s, struct pcs_domain *d)
     d->bown = grow(d->bown, &d->bown_cap, d->nb_own + 1, sizeof *d->bown, "own boundary");
     for (size_t j = j0; j < j1; j++) d->bown[j - j0] = s->b->id[j];
     qsort(d->bown, d->nb_own, sizeof *d->bown, cmp_u32);
+    size_t real = d->nb_own; /* periodic images (the largest ids) are not written */
+    while (real && d->bown[real - 1] >= d->nb_real) real--;
+    d->nb_own_real = real;
+}
+
+/* Periodic boundary images among the stored boundary particles: each
+ * with its original (stored too: its piece is an image piece of the
+ * original's, which the rank then stores), as local index pairs for the
+ * refresh (dom_refresh_pressure); after every sort of the stored set. */
+static void boundary_image_pairs(pcs_solver *s, struct pcs_domain *d)
+{
+    dom_halo *hl = &s->halo;
+    if (!hl->nb_img) return;
+    const sl_boundary *b = s->b;
+    const size_t nall = hl->nb_real + hl->nb_img;
+    for (size_t i = 0; i < nall; i++) hl->bpos[i] = UINT32_MAX;
+    size_t m = 0;
+    for (size_t j = 0; j < b->n; j++) {
+        hl->bpos[b->id[j]] = (uint32_t)j;
+        m += b->id[j] >= hl->nb_real;
+    }
+    hl->bpair = grow(hl->bpair, &hl->bpair_cap, 2 * m + 2, sizeof *hl->bpair, "boundary images");
+    size_t q = 0;
+    for (size_t j = 0; j < b->n; j++) {
+        if (b->id[j] < hl->nb_real) continue;
+        const uint32_t o = hl->bpos[hl->bsrc[b->id[j] - hl->nb_real]];
+        if (o == UINT32_MAX) { /* in a piece stored for its images only: read by no own row */
+            if (d->owner[row_of(s, d, b->x[j], b->y[j], b->z[j])] == s->split.rank)
+                sl_fatal("pcs_domain: the original of periodic boundary image %u is not stored "
+                         "(internal error)",
+                         b->id[j]);
+            continue;
+        }
+        hl->bpair[2 * q] = (uint32_t)j;
+        hl->bpair[2 * q + 1] = o;
+        q++;
+    }
+    hl->nbpair = q;
+    hl->bpairs = 1;
 }
 
 /* Whether rank me stores the boundary particles of row k: its own rows
@@ -404,6 +572,7 @@ static void keep_boundary_rows(pcs_solver *s, struct pcs_domain *d, size_t nb_gl
     g->bperm_cap = 0;
     nbr_sort_boundary(g, b); /* the order kept; bstart of the stored ones */
     own_boundary_list(s, d);
+    boundary_image_pairs(s, d);
 }
 
 /* Counts to and from every rank (an Alltoall), their displacements and
@@ -485,15 +654,35 @@ static void distribute_boundary(pcs_solver *s, struct pcs_domain *d)
     b->n = m + nr;
     nbr_sort_boundary(&s->grid, b);
     own_boundary_list(s, d);
+    boundary_image_pairs(s, d);
     d->blists = 0;
     d->bdistributions++;
+}
+
+static int halo_depth(const pcs_solver *s);
+
+const char *pcd_periodic_refusal(const pcs_solver *s)
+{
+    if (!s->prm.periodic.axes) return NULL;
+    if (s->eff && eff_find(s->eff, "movingBoundary"))
+        return "a movingBoundary (its periodic images are exact for translations only, and "
+               "would cross the ranks' cells)";
+    if (s->eff && eff_find(s->eff, "emitter")) return "an emitter";
+    if (halo_depth(s) > s->grid.reach)
+        return "two cells of halo (surfaceTension or SLUICE_PARALLEL_HALO_DEPTH=2: every rank "
+               "computes the boundary particles its rows see, and an image's original may lie "
+               "on another rank)";
+    if (s->prm.point_queries)
+        return "a probes or waterGauges function object (rank 0's copy near their points has "
+               "no periodic images)";
+    return NULL;
 }
 
 int pcd_usable(const pcs_solver *s)
 {
     const char *e = getenv("SLUICE_PARALLEL_EXCHANGE");
     if (e && (!strcmp(e, "gather") || !strcmp(e, "halo"))) return 0;
-    return s->split.size > 1 && !s->prm.periodic.axes;
+    return s->split.size > 1 && !pcd_periodic_refusal(s);
 }
 
 /* The fluid's arrays cut down to room for `want` particles (they were
@@ -540,7 +729,8 @@ static int halo_depth_of(const eff_set *eff, int reach)
 static int halo_depth(const pcs_solver *s) { return halo_depth_of(s->eff, s->grid.reach); }
 
 /* The row tables of grid g and room for p ranks' cuts. */
-static struct pcs_domain *domain_new(const nbr_grid *g, int p, int depth)
+static struct pcs_domain *domain_new(const nbr_grid *g, int p, int depth, const dom_periodic *per,
+                                     double h)
 {
     struct pcs_domain *d = sl_calloc(1, sizeof *d, "domain decomposition");
     const int rows = g->unit[0] == g->nc[0] && g->unit[1] == 1 && g->unit[2] == 1;
@@ -580,6 +770,8 @@ static struct pcs_domain *domain_new(const nbr_grid *g, int p, int depth)
     prt_fluid_init(&d->mirror);
     prt_boundary_init(&d->mbound);
     nbr_list_init(&d->mbf);
+    d->nb_real = SIZE_MAX;
+    periodic_pieces(d, g, per, h);
     return d;
 }
 
@@ -588,7 +780,7 @@ static void domain_free(struct pcs_domain *d);
 void pcd_partition(const pcs_solver *s, int p, int *rank, size_t *stored, size_t *halo,
                    size_t *bstored, int *brank)
 {
-    struct pcs_domain *d = domain_new(&s->grid, p, halo_depth(s));
+    struct pcs_domain *d = domain_new(&s->grid, p, halo_depth(s), &s->prm.periodic, s->h);
     const sl_fluid *f = s->f;
     const sl_boundary *b = s->b;
     for (size_t i = 0; i < f->n; i++)
@@ -638,7 +830,7 @@ pcd_plan *pcd_plan_new(const pcs_params *prm, const eff_set *eff, const double l
     pl->nboundary = nboundary;
     nbr_grid_init(&pl->grid, lo, hi, pcs_support(prm), pcs_grid_cells(nfluid, nboundary));
     pl->reach = pl->grid.reach;
-    pl->d = domain_new(&pl->grid, pl->p, halo_depth_of(eff, pl->reach));
+    pl->d = domain_new(&pl->grid, pl->p, halo_depth_of(eff, pl->reach), NULL, 0.0);
     return pl;
 }
 
@@ -730,7 +922,8 @@ static double rss_peak(void); /* peak resident bytes so far (VmHWM) */
 void pcd_init(pcs_solver *s, pcd_plan *plan)
 {
     const int p = s->split.size, me = s->split.rank;
-    struct pcs_domain *d = plan ? plan->d : domain_new(&s->grid, p, halo_depth(s));
+    struct pcs_domain *d =
+        plan ? plan->d : domain_new(&s->grid, p, halo_depth(s), &s->prm.periodic, s->h);
     if (plan) plan->d = NULL;
     s->split.dd = d;
     const char *th = getenv("SLUICE_PARALLEL_REBALANCE");
@@ -763,6 +956,7 @@ void pcd_init(pcs_solver *s, pcd_plan *plan)
     /* the boundary: own and halo rows; moving walls carry it across them */
     d->bmoving = s->eff && eff_find(s->eff, "movingBoundary");
     s->split.nbglobal = plan ? plan->nboundary : s->b->n;
+    d->nb_real = s->halo.nb_img ? s->halo.nb_real : SIZE_MAX; /* periodic boundary images */
     keep_boundary_rows(s, d, s->split.nbglobal);
     sl_free_aligned(s->split.bbuf); /* the gather mode's, sized for every boundary particle */
     s->split.bbuf = NULL;
@@ -785,6 +979,7 @@ void pcd_free(pcs_solver *s)
 static void domain_free(struct pcs_domain *d)
 {
     free(d->plin), free(d->kof), free(d->cut), free(d->goff), free(d->boff), free(d->owner);
+    free(d->istart), free(d->ipiece), free(d->iface), free(d->iadd);
     free(d->nstart), free(d->mark), free(d->rowcount), free(d->cnt_p), free(d->all_n);
     free(d->all_s);
     sl_free_aligned(d->nrank);
@@ -1010,13 +1205,15 @@ static void split_inner(pcs_solver *s, struct pcs_domain *d, size_t j0, size_t j
 {
     pcs_split *sp = &s->split;
     const uint32_t *ffs = s->ff.start, *ffi = s->ff.idx, *fbs = s->fb.start, *fbi = s->fb.idx;
+    const uint32_t *bid = s->b->id;
     const size_t lo = d->lo, hi = d->hi, m = hi - lo;
     sp->order = grow(sp->order, &sp->order_cap, m + 1, sizeof *sp->order, "own rows");
     size_t a = 0, z = m;
     for (size_t i = lo; i < hi; i++) { /* inner from the front, border from the back */
         int in = 1;
         for (uint32_t q = ffs[i]; in && q < ffs[i + 1]; q++) in = ffi[q] >= lo && ffi[q] < hi;
-        for (uint32_t q = fbs[i]; in && q < fbs[i + 1]; q++) in = fbi[q] >= j0 && fbi[q] < j1;
+        for (uint32_t q = fbs[i]; in && q < fbs[i + 1]; q++) /* images: refreshed after the wait */
+            in = fbi[q] >= j0 && fbi[q] < j1 && bid[fbi[q]] < d->nb_real;
         if (in) sp->order[a++] = (uint32_t)i;
         else sp->order[--z] = (uint32_t)i;
     }
@@ -1215,6 +1412,11 @@ void pcd_wait(pcs_solver *s)
                     bpt[d->brecv_idx[k]] = o[at++];
         }
     }
+    /* periodic images from their originals, the halo's among them here now */
+    if (dom_halo_on(&s->halo)) {
+        if (d->inflight == 1) dom_refresh_predicted(&s->halo, s->f);
+        else dom_refresh_pressure(&s->halo, s->f, s->b);
+    }
     d->inflight = 0;
     s->time.comm += omp_get_wtime() - t0;
 }
@@ -1329,6 +1531,7 @@ void pcd_keep_own(pcs_solver *s)
         memmove(f->cell, f->cell + lo, m * sizeof *f->cell);
     }
     f->n = m;
+    f->nhalo = 0; /* periodic images: made again after the next sort */
     d->nsorted = m;
     d->lo = 0;
     d->hi = m;
@@ -2483,7 +2686,7 @@ int pcd_output_begin(pcs_solver *s, const pcs_snapshot *prev)
     o->pmax = par_max_double(pmax);
     /* the own boundary particles by (cell, creation index) */
     const sl_boundary *b = s->b;
-    const size_t nb = d->nb_own;
+    const size_t nb = d->nb_own_real; /* periodic images left out, as the serial write does */
     if (o->bperm_cap < nb + 1) {
         free(o->bperm), free(o->bkey);
         o->bperm_cap = nb + nb / 4 + 1;
@@ -2492,7 +2695,7 @@ int pcd_output_begin(pcs_solver *s, const pcs_snapshot *prev)
     }
     size_t m = 0;
     for (size_t j = 0; j < b->n; j++) {
-        if (!own_boundary(d, b->id[j])) continue;
+        if (b->id[j] >= d->nb_real || !own_boundary(d, b->id[j])) continue;
         /* count every own one, store at most nb: more than nb is caught below */
         if (m < nb)
             o->bkey[m] = (out_bkey){

@@ -1,6 +1,7 @@
 /*
  * pcs_domain: -parallel's domain mode (doc/parallel.md, "phase 2"), the
- * default where it applies (no periodic axis).
+ * default where it applies (pcd_usable; a periodic case but for what
+ * pcd_periodic_refusal names).
  *
  * Ownership by position.  The grid's cells are numbered unit by unit
  * (neighbours.h, SLUICE_GRID_UNIT: whole x-rows of cells, the rows in
@@ -27,6 +28,25 @@
  * fields (pcd_distribute; also when rebalancing moves the cuts).  Surface
  * tension reads its neighbours' normals: with it the halo is two cells
  * deep and every rank computes the boundary particles its rows see.
+ *
+ * Periodic axes (domain/dom_periodic.h): the images of a particle within
+ * h of a periodic face lie across the period, in pieces another rank may
+ * own.  A rank's halo also holds every piece one of whose *image pieces*
+ * (the pieces a band of it within h of a face, shifted by the period,
+ * meets: conservative, a cell more either way) is an own or halo piece of
+ * the rank; the exchanges (migration, halo, x*, p/rho^2 and rho, the
+ * boundary's p/rho^2) need nothing else.  After the sort each rank makes
+ * the images of its own and halo particles (dom_fluid_images): its
+ * particles are a sub-sequence of the serial sorted array, and the images
+ * are sorted by cell stably in that order, so the images an own row sees
+ * are the serial ones in the serial order.  They are refreshed from their
+ * originals when the halo's values arrive (pcd_wait); the rows reading an
+ * image (fluid or boundary) are border rows of the overlap.  The boundary
+ * images are boundary particles of their cells as any other, their
+ * values refreshed from their originals, which the rank stores (an image
+ * piece of the original's piece); they are not written.  Positions are
+ * wrapped after the integration, so a particle crossing a periodic face
+ * migrates to the owner of the cells it enters.
  *
  * Per PCISPH iteration: x* of the halo after the prediction, p/rho^2 and
  * rho after the density pass (and the boundary's p/rho^2, in the same
@@ -61,6 +81,11 @@
 
 /* Whether s (ranks > 1) can run in domain mode. */
 int pcd_usable(const pcs_solver *s);
+/* A periodic case runs in the domain mode (the halo holds the pieces
+ * where its images lie, the images are made by every rank from its own
+ * and halo particles, in the serial order) but for what this names, kept
+ * in the halo mode: NULL when nothing stops it (or no periodic axis). */
+const char *pcd_periodic_refusal(const pcs_solver *s);
 /* A set-up in parts (case/case_part.h): no rank makes or reads the whole
  * case.  The plan holds the solver's grid for the whole case's counts (the
  * same grid pcs_init makes), every rank counts the fluid of the whole case
@@ -72,7 +97,8 @@ int pcd_usable(const pcs_solver *s);
  * stores, and those their masses and rest densities read), with the ids
  * of the whole case.  pcd_plan_built drops the grid; pcs_init_part hands
  * the cuts to the solver.  Usable where the domain mode is: ranks > 1, no
- * periodic axis, SLUICE_PARALLEL_EXCHANGE neither gather nor halo. */
+ * periodic axis (a periodic case is built whole on every rank, then each
+ * keeps its part), SLUICE_PARALLEL_EXCHANGE neither gather nor halo. */
 typedef struct pcd_plan pcd_plan;
 int pcd_plan_usable(const pcs_params *p);
 pcd_plan *pcd_plan_new(const pcs_params *p, const eff_set *eff, const double lo[3],

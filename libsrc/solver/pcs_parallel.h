@@ -1,5 +1,8 @@
 /*
- * pcs_parallel: -parallel's halo mode (doc/parallel.md, "phase 1b").
+ * pcs_parallel: -parallel's halo mode (doc/parallel.md, "phase 1b"):
+ * SLUICE_PARALLEL_EXCHANGE=halo, and the periodic cases the domain mode
+ * refuses (pcd_periodic_refusal: moving walls, emitters, two cells of
+ * halo, probes and waterGauges).
  *
  * The state stays whole on every rank at the start of a step (every rank
  * sorts, searches and computes the forces of all particles), but within

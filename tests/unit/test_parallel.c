@@ -8,8 +8,8 @@
  * reader; a damaged piece is refused, naming the file); the filling's particles change rank both
  * ways, and its first steps leave ranks
  * without fluid rows; a periodic channel on 3 ranks gives the serial
- * files; 2 ranks x 2 threads the same; the halo mode (the default where
- * it applies) and the gather mode both (pcs_parallel.h).  Without MPI in the build (make
+ * files (the domain mode: test_periodic); 2 ranks x 2 threads the same;
+ * the halo mode and the gather mode both (pcs_parallel.h).  Without MPI in the build (make
  * MPI=no) or without mpirun, every test is reported skipped. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -207,7 +207,7 @@ static void test_streamed_output(void **state)
 
 /* pressureSource divergence (warm-started, gradient-corrected) on 3 ranks
  * of the domain mode, and mixed on 2 ranks of the halo mode
- * (SLUICE_PARALLEL_EXCHANGE=halo, the mode of periodic cases): the serial
+ * (SLUICE_PARALLEL_EXCHANGE=halo; periodic cases with a probe): the serial
  * files; and the source is in use (its fluid.vtu is not the density
  * source's, parDamSerial of test_dam_break_np123). */
 static void test_pressure_source(void **state)
@@ -594,33 +594,108 @@ static void test_restart_damaged_parallel(void **state)
                      0);
 }
 
-/* A periodic channel on 3 ranks in both modes, a box periodic along all
- * three axes on 2: the serial files. */
+/* Periodic cases in the domain mode (a rank stores its own particles and
+ * the halo pieces, among them those where the images of other ranks'
+ * particles lie, and makes the images itself, in the serial order): a
+ * channel periodic along x on 2 and 3 ranks, and in the halo and gather
+ * modes; a box periodic along x, y and z (images of images at the corners,
+ * images across every cut) on 2 and 3, and 2 ranks x 2 threads; the channel with blocks of 2 cells
+ * (the cuts cross the periodic face: the block moving across it changes
+ * rank, with the boundary images and their originals on other ranks) on 3
+ * ranks, rebalanced; its restart files of 2 ranks continued on 3; with a
+ * probe it keeps the halo mode and says why.  The serial files. */
 static void test_periodic(void **state)
 {
     (void)state;
     NEED_MPI();
     const char *edit = "sed -i 's/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict";
     assert_int_equal(run_np("tests/cases/periodicChannel", "parPeriodicSerial", edit, 0), 0);
+    assert_int_equal(run_np("tests/cases/periodicChannel", "parPeriodic2", edit, 2), 0);
+    same_output("parPeriodicSerial", "parPeriodic2");
     assert_int_equal(run_np("tests/cases/periodicChannel", "parPeriodic3", edit, 3), 0);
     same_output("parPeriodicSerial", "parPeriodic3");
-    assert_int_equal(system("grep -q 'parallel: halo mode' tests/output/parPeriodic3/log.pcisph"),
+    assert_int_equal(system("grep -q 'parallel: domain mode' tests/output/parPeriodic3/log.pcisph"),
                      0);
+    setenv("SLUICE_PARALLEL_EXCHANGE", "halo", 1);
+    int rc = run_np("tests/cases/periodicChannel", "parPeriodicHalo2", edit, 2);
+    unsetenv("SLUICE_PARALLEL_EXCHANGE");
+    assert_int_equal(rc, 0);
+    same_output("parPeriodicSerial", "parPeriodicHalo2");
+    assert_int_equal(
+        system("grep -q 'parallel: halo mode' tests/output/parPeriodicHalo2/log.pcisph"), 0);
     setenv("SLUICE_PARALLEL_EXCHANGE", "gather", 1);
-    int rc = run_np("tests/cases/periodicChannel", "parPeriodicGather3", edit, 3);
+    rc = run_np("tests/cases/periodicChannel", "parPeriodicGather3", edit, 3);
     unsetenv("SLUICE_PARALLEL_EXCHANGE");
     assert_int_equal(rc, 0);
     same_output("parPeriodicSerial", "parPeriodicGather3");
-    /* periodic along x, y and z: images of images at the corners */
+    /* periodic along x, y and z */
     assert_int_equal(run_np("tests/cases/periodicBox", "parBoxSerial", edit, 0), 0);
     assert_int_equal(run_np("tests/cases/periodicBox", "parBox2", edit, 2), 0);
     same_output("parBoxSerial", "parBox2");
+    assert_int_equal(run_np("tests/cases/periodicBox", "parBox3", edit, 3), 0);
+    same_output("parBoxSerial", "parBox3");
+    const char *threads = "sed -i 's/^numberOfThreads .*/numberOfThreads 2;/' system/controlDict";
+    assert_int_equal(run_np("tests/cases/periodicBox", "parBox2x2", threads, 2), 0);
+    same_output("parBoxSerial", "parBox2x2");
+    assert_int_equal(system("grep -q 'parallel: domain mode' tests/output/parBox3/log.pcisph"), 0);
+    /* blocks: cuts across the periodic face, rebalanced */
+    setenv("SLUICE_GRID_UNIT", "block:2", 1);
+    rc = run_np("tests/cases/periodicChannel", "parPeriodicBlkSerial", edit, 0);
+    setenv("SLUICE_PARALLEL_REBALANCE", "0.002", 1);
+    rc |= run_np("tests/cases/periodicChannel", "parPeriodicBlk3", edit, 3);
+    unsetenv("SLUICE_PARALLEL_REBALANCE");
+    assert_int_equal(rc, 0);
+    same_output("parPeriodicBlkSerial", "parPeriodicBlk3");
+    assert_int_equal(
+        system("grep -Eq 'parallel: [1-9][0-9]* rebalances' "
+               "tests/output/parPeriodicBlk3/log.pcisph && grep -Eq 'changed rank "
+               "between searches: [1-9][0-9]* to a higher rank, [1-9][0-9]* to a "
+               "lower' tests/output/parPeriodicBlk3/log.pcisph && sed -En 's/.*boundary "
+               "particles stored per rank .* min ([0-9]+), max [0-9]+ of ([0-9]+).*/"
+               "\\1 \\2/p' tests/output/parPeriodicBlk3/log.pcisph | awk '{ n++; "
+               "ok = $1 < $2 } END { exit !(n == 1 && ok) }'"),
+        0);
+    /* restart files of 2 ranks continued on 3: the fluid of the run not
+     * interrupted; the boundary of the serial run restarted alike (a
+     * restart does not carry the last density of the boundary particles
+     * that have gone inactive: 0 after it, serial or not) */
+    const char *first = "sed -i 's/^endTime .*/endTime 0.1;/; s/^numberOfThreads "
+                        ".*/numberOfThreads 1;/' system/controlDict";
+    rc = run_np("tests/cases/periodicChannel", "parPeriodicBlkRestart", first, 2);
+    rc |= run_np("tests/cases/periodicChannel", "parPeriodicBlkRestartSerial", first, 0);
+    assert_int_equal(rc, 0);
+    char cmd[2048];
+    snprintf(
+        cmd, sizeof cmd,
+        "cd tests/output/parPeriodicBlkRestartSerial && sed -i 's/^endTime .*/endTime 0.3;/; "
+        "s/^startFrom .*/startFrom latestTime;/' system/controlDict && %s/pcisph -case . "
+        "-quiet > log.restart 2>&1 && cd ../parPeriodicBlkRestart && sed -i 's/^endTime "
+        ".*/endTime 0.3;/; s/^startFrom .*/startFrom latestTime;/' system/controlDict && " MPIRUN
+        "-x SLUICE_GRID_UNIT -np 3 %s/pcisph -case . -quiet -parallel > log.restart 2>&1 && "
+        "grep -q 'Restarting from' log.restart && grep -q 'parallel: domain mode' "
+        "log.restart && cd .. && for t in 0.2 0.3; do cmp parPeriodicBlkSerial/$t/fluid.vtu "
+        "parPeriodicBlkRestart/$t/fluid.vtu && cmp parPeriodicBlkRestartSerial/$t/boundary.vtu "
+        "parPeriodicBlkRestart/$t/boundary.vtu || exit 1; done",
+        bin_dir(), bin_dir());
+    rc = system(cmd);
+    unsetenv("SLUICE_GRID_UNIT");
+    assert_int_equal(rc, 0);
+    /* a probe: the halo mode, and the log says why */
+    const char *probe =
+        "sed -i 's/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict && printf "
+        "'functions\\n{\\n probes { type probes; fields (pressure); probeLocations ((0.01 0.06 "
+        "0.05)); }\\n}\\n' >> system/controlDict";
+    assert_int_equal(run_np("tests/cases/periodicChannel", "parPeriodicProbe2", probe, 2), 0);
+    same_output("parPeriodicSerial", "parPeriodicProbe2");
+    assert_int_equal(system("grep -q 'the halo mode, not the domain mode: the case has a probes' "
+                            "tests/output/parPeriodicProbe2/log.pcisph"),
+                     0);
 }
 
 /* initialPacking relaxed: every rank relaxes the whole case alike before
  * the split (solver/pcs_relax.h), so the runs start from the serial run's
- * packing: the domain mode (damBreakShort, 3 ranks) and the halo mode of a
- * periodic channel (2 ranks) write the serial files. */
+ * packing: the domain mode (damBreakShort, 3 ranks, and a periodic channel
+ * on 2 ranks) writes the serial files. */
 static void test_relaxed_packing(void **state)
 {
     (void)state;
@@ -822,5 +897,7 @@ int main(void)
         cmocka_unit_test(test_mpirun_without_parallel),
         cmocka_unit_test(test_decompose_case),
     };
+    /* SLUICE_TEST_FILTER=test_periodic* runs the matching tests only */
+    if (getenv("SLUICE_TEST_FILTER")) cmocka_set_test_filter(getenv("SLUICE_TEST_FILTER"));
     return cmocka_run_group_tests_name("parallel", tests, NULL, NULL);
 }

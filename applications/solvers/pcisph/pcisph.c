@@ -154,12 +154,12 @@ static void print_world(const run *r, const char *dt_rule)
     sl_info("Case %s", c->dir);
     sl_info("  fluid particles     %zu", pcs_fluid_total(s));
     sl_info("  boundary particles  %zu (%zu shapes, method %s)",
-            pcs_boundary_total(s) - c->boundary.nimages, c->nshapes, c->prm.method->name);
+            pcs_boundary_total(s) - s->halo.nb_img, c->nshapes, c->prm.method->name);
     if (c->prm.periodic.axes) {
         char ax[8];
         dom_periodic_axes_text(c->prm.periodic.axes, ax, sizeof ax);
         sl_info("  periodic            %s (%zu boundary images; fluid images every step)", ax,
-                c->boundary.nimages);
+                s->halo.nb_img);
     }
     sl_info("  particle spacing r0 %g m, support radius h %g m (%g r0), kernel %s", c->prm.r0, s->h,
             c->prm.support, krn_type_name(c->prm.kernel));
@@ -189,6 +189,12 @@ static void print_world(const run *r, const char *dt_rule)
                 s->split.domain ? "domain mode, each rank stores its own particles and their halo"
                     : s->split.halo ? "halo mode, replicated state"
                                     : "gather mode, replicated state");
+    const char *why =
+        r->parallel && s->split.halo && !s->split.domain && !getenv("SLUICE_PARALLEL_EXCHANGE")
+        ? pcd_periodic_refusal(s)
+        : NULL;
+    if (why)
+        sl_info("  periodic, parallel  the halo mode, not the domain mode: the case has %s", why);
 }
 
 /* The status line: simulated time against endTime, steps per second. */
@@ -978,6 +984,9 @@ int main(int argc, char **argv)
     r.session.t_first = r.t;
     r.session.sessions = 1;
     fo_list *fo = fo_read(&r.c);
+    for (size_t q = 0; q < fo_count(fo); q++) /* their copy on rank 0 has no periodic image */
+        if (!strcmp(fo_type_name(fo, q), "probes") || !strcmp(fo_type_name(fo, q), "waterGauges"))
+            r.c.prm.point_queries = 1;
     if (!restarted && r.c.packing.relaxed) relax(&r);
     pcs_init_part(&r.s, &r.c.prm, &r.c.fluid, &r.c.boundary, r.c.lo, r.c.hi, r.ctl.dt, &r.c.effects,
                   plan);

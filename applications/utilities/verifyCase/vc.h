@@ -52,7 +52,8 @@ typedef struct vc_sample {
     double ke;     /* kinetic energy per unit mass (m^2/s^2) */
     double height; /* the highest particle + r0/2 (m) */
     double mode;   /* standingWave: the velocity's projection on the linear mode
-                         (m/s; A w cos(w t) for the exact answer) */
+                         (m/s; A w cos(w t) for the exact answer); taylorGreen: on
+                         the vortex's shape (m/s; U exp(-2 nu k^2 t) exactly) */
 } vc_sample;
 
 extern const char *const vc_kind_names[];

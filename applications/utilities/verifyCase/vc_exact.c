@@ -164,6 +164,13 @@ void vc_measure(const vc_setup *s, const sl_fluid *f, double t, vc_sample *out)
         const double dp = f->p[i] - pg * (depth > 0.0 ? depth : 0.0);
         sp += dp * dp;
         if (f->z[i] > top) top = f->z[i];
+        if (s->kind == VC_TAYLOR_GREEN) { /* the vortex's shape, amplitude 1 */
+            const double k = 2.0 * 3.14159265358979323846 / s->length;
+            const double mu = sin(k * f->x[i]) * cos(k * f->y[i]),
+                         mw = -cos(k * f->x[i]) * sin(k * f->y[i]);
+            pm += f->vx[i] * mu + f->vy[i] * mw;
+            mm += mu * mu + mw * mw;
+        }
         if (s->kind == VC_WAVE) { /* the mode's velocity shape (case.c's standingWave) */
             const double x = f->x[i] - s->lo[0], z = f->z[i] - s->lo[2], sh = sinh(kw * H);
             const double mu = -cosh(kw * z) / sh * sin(kw * x),

@@ -153,6 +153,26 @@ static double wave_decay(const vc_sample *s, size_t n, const size_t *at, int nc,
     return -(m * sxy - sx * sy) / (m * sxx - sx * sx);
 }
 
+/* taylorGreen: the amplitude's decay rate (1/s), minus the slope of the
+ * least-squares line through log(mode) against t over the written times
+ * (the projection on the vortex's shape; exactly 2 nu k^2).  NAN with
+ * fewer than two or a mode that is not positive. */
+static double vortex_decay(const vc_sample *s, size_t n)
+{
+    double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        if (!(s[i].mode > 0.0)) return (double)NAN;
+        const double ly = log(s[i].mode);
+        sx += s[i].t;
+        sy += ly;
+        sxx += s[i].t * s[i].t;
+        sxy += s[i].t * ly;
+    }
+    if (n < 2) return (double)NAN;
+    const double m = (double)n;
+    return -(m * sxy - sx * sy) / (m * sxx - sx * sx);
+}
+
 /* The period and decay from the fit of the whole record (vc_fit.c),
  * seeded from the zero crossings' period T and the extremes' rate; one
  * line of output.  A fit that does not converge is a warning, not an
@@ -197,8 +217,8 @@ static void write_summary(const sl_case *c, const vc_setup *s, double error, dou
     fprintf(f,
             "# verifyCase: %s against its exact answer (system/verifyDict)\n"
             "# reached: the latest written time over endTime (< 1: the run stopped early)\n"
-            "# decayRate, decayExact (1/s): standingWave's amplitude decay, measured and "
-            "2 nu k^2;\n"
+            "# decayRate, decayExact (1/s): standingWave's and taylorGreen's amplitude decay,\n"
+            "#   measured and 2 nu k^2;\n"
             "#   decayError |decayRate - decayExact| / decayExact (NaN when nu is 0)\n"
             "# periodFit, periodFitSigma (s), decayFit, decayFitSigma (1/s): standingWave's\n"
             "#   least-squares fit of the whole record to A exp(-d t) cos(w t + phi) + c, with\n"
@@ -292,6 +312,19 @@ int main(int argc, char **argv)
         free(at);
         what = "relative error of the period";
         counted = 1;
+    } else if (s.kind == VC_TAYLOR_GREEN) {
+        const double k = 2.0 * 3.14159265358979323846 / s.length;
+        size_t w = 0; /* the time of the largest error */
+        for (size_t i = 0; i < times.n; i++)
+            if (smp[i].err > smp[w].err) w = i;
+        decay[0] = vortex_decay(smp, times.n);
+        decay[1] = 2.0 * s.nu * k * k;
+        decay[2] = s.nu > 0.0 ? fabs(decay[0] - decay[1]) / decay[1] : (double)NAN;
+        printf("# amplitude decay %.6g /s (the projection on the vortex's shape, least squares "
+               "through %zu written times), viscous 2 nu k^2 %.6g /s, error %.6g of it; at the "
+               "largest error (t = %g s) the amplitude is %.6g of the exact\n",
+               decay[0], times.n, decay[1], decay[2], smp[w].t,
+               smp[w].mode / (s.amplitude * exp(-decay[1] * smp[w].t)));
     }
     if (counted == 0) sl_fatal("%s: no written time at or after from = %g", c.dir, s.from);
     long steps;
