@@ -21,6 +21,14 @@ void *eff_moving_boundary_new(const mot_motion *motions, size_t nbodies)
     return m;
 }
 
+int eff_moving_boundary_translates_across(const void *state, unsigned axes)
+{
+    const moving *m = state;
+    for (size_t k = 0; m && k < m->nbodies; k++)
+        if (!mot_translates_across(&m->motions[k], axes)) return 0;
+    return 1;
+}
+
 static void apply(void *state, const eff_view *v)
 {
     const moving *m = state;

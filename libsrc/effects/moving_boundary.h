@@ -18,5 +18,8 @@ extern const eff_type eff_moving_boundary;
 /* The effect's state for motions[body] (MOT_NONE for static bodies; the
  * array is not copied and must outlive the set), NULL if nothing moves. */
 void *eff_moving_boundary_new(const mot_motion *motions, size_t nbodies);
+/* Whether every body of the state translates without moving along
+ * `axes` (mot_translates_across). */
+int eff_moving_boundary_translates_across(const void *state, unsigned axes);
 
 #endif

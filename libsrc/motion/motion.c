@@ -116,6 +116,28 @@ void mot_free(mot_motion *m)
     memset(m, 0, sizeof *m);
 }
 
+int mot_translates_across(const mot_motion *m, unsigned axes)
+{
+    switch (m->type) {
+    case MOT_NONE:
+        return 1;
+    case MOT_COSINE:
+        for (int k = 0; k < 3; k++)
+            if (axes & (1u << k) && m->peak_velocity[k] != 0.0) return 0;
+        return 1;
+    case MOT_OSCILLATING:
+        return m->amplitude == 0.0;
+    case MOT_TABLE:
+        for (size_t i = 0; i < m->nrows; i++) {
+            if (m->col[3][i] != 0.0) return 0;
+            for (int k = 0; k < 3; k++)
+                if (axes & (1u << k) && m->col[k][i] != 0.0) return 0;
+        }
+        return 1;
+    }
+    return 0;
+}
+
 void mot_eval(const mot_motion *m, double t, double d[3], double *angle, double v[3], double *omega)
 {
     d[0] = d[1] = d[2] = v[0] = v[1] = v[2] = 0.0;

@@ -47,6 +47,12 @@ typedef struct mot_motion {
 void mot_read(mot_motion *m, const dict *d, const char *case_dir);
 void mot_free(mot_motion *m);
 
+/* Whether the motion is a translation that keeps the coordinates along
+ * `axes` (bit d: axis d) fixed: no rotation, no displacement along them
+ * (the periodic images of such a body stay its exact images, within a
+ * rounding: -parallel's domain mode, solver/pcs_domain.h). */
+int mot_translates_across(const mot_motion *m, unsigned axes);
+
 /* Displacement d(t), rotation angle (radians) and their rates. */
 void mot_eval(const mot_motion *m, double t, double d[3], double *angle, double v[3],
               double *omega);

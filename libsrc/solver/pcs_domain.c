@@ -13,6 +13,7 @@
 #include "core/sl_mem.h"
 #include "core/sl_reduce.h"
 #include "effects/effects.h"
+#include "effects/moving_boundary.h"
 #include "parallel/par.h"
 #include "solver/pcs_sums.h"
 
@@ -664,9 +665,11 @@ static int halo_depth(const pcs_solver *s);
 const char *pcd_periodic_refusal(const pcs_solver *s)
 {
     if (!s->prm.periodic.axes) return NULL;
-    if (s->eff && eff_find(s->eff, "movingBoundary"))
-        return "a movingBoundary (its periodic images are exact for translations only, and "
-               "would cross the ranks' cells)";
+    const eff_instance *mb = s->eff ? eff_find(s->eff, "movingBoundary") : NULL;
+    if (mb && !eff_moving_boundary_translates_across(mb->state, s->prm.periodic.axes))
+        return "a movingBoundary that rotates or moves along a periodic axis (its periodic "
+               "images are exact for translations only, and would leave the pieces that hold "
+               "their originals' images)";
     if (s->eff && eff_find(s->eff, "emitter")) return "an emitter";
     if (halo_depth(s) > s->grid.reach)
         return "two cells of halo (surfaceTension or SLUICE_PARALLEL_HALO_DEPTH=2: every rank "

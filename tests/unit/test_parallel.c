@@ -602,8 +602,9 @@ static void test_restart_damaged_parallel(void **state)
  * images across every cut) on 2 and 3, and 2 ranks x 2 threads; the channel with blocks of 2 cells
  * (the cuts cross the periodic face: the block moving across it changes
  * rank, with the boundary images and their originals on other ranks) on 3
- * ranks, rebalanced; its restart files of 2 ranks continued on 3; with a
- * probe it keeps the halo mode and says why.  The serial files. */
+ * ranks, rebalanced; its restart files of 2 ranks continued on 3; a tank
+ * translating across a periodic axis on 3 ranks of blocks; a rocking tank
+ * and a probe keep the halo mode and say why.  The serial files. */
 static void test_periodic(void **state)
 {
     (void)state;
@@ -680,6 +681,34 @@ static void test_periodic(void **state)
     rc = system(cmd);
     unsetenv("SLUICE_GRID_UNIT");
     assert_int_equal(rc, 0);
+    /* a tank translating across a periodic axis (moving walls and their
+     * images carried across the blocks); a rocking one keeps the halo mode */
+    const char *tank = "sed -i 's/^endTime .*/endTime 0.1;/; s/^writeInterval .*/writeInterval "
+                       "0.05;/; s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict";
+    setenv("SLUICE_GRID_UNIT", "block:2", 1);
+    rc = run_np("cases/verification/translatingTank/base", "parPeriodicTankSerial", tank, 0);
+    rc |= run_np("cases/verification/translatingTank/base", "parPeriodicTank3", tank, 3);
+    unsetenv("SLUICE_GRID_UNIT");
+    assert_int_equal(rc, 0);
+    same_output("parPeriodicTankSerial", "parPeriodicTank3");
+    assert_int_equal(system("grep -q 'parallel: domain mode' "
+                            "tests/output/parPeriodicTank3/log.pcisph && grep -Eq 'boundary "
+                            "particles stored per rank .* distributed [1-9][0-9]* times, "
+                            "[1-9][0-9]* changed owner' tests/output/parPeriodicTank3/log.pcisph"),
+                     0);
+    char rock[1024];
+    snprintf(rock, sizeof rock,
+             "%s && sed -i 's|motion {[^}]*}|motion { type oscillating; amplitude 2; period 1; "
+             "axis (0 1 0); centre (0.05 0.02 0); }|' constant/boundaryProperties && sed -i "
+             "'s/^endTime .*/endTime 0.01;/; s/^writeInterval .*/writeInterval 0.01;/' "
+             "system/controlDict",
+             tank);
+    assert_int_equal(run_np("cases/verification/translatingTank/base", "parPeriodicRock2", rock, 2),
+                     0);
+    assert_int_equal(
+        system("grep -q 'the halo mode, not the domain mode: the case has a "
+               "movingBoundary that rotates' tests/output/parPeriodicRock2/log.pcisph"),
+        0);
     /* a probe: the halo mode, and the log says why */
     const char *probe =
         "sed -i 's/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict && printf "
