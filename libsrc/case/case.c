@@ -158,10 +158,19 @@ static void read_timestep(sl_case *c)
 
 /* The keys of constant/fluidProperties besides the effects' own entries
  * (effects/: eff_fluid_effects). */
-static const char *const fluid_keys[] = {"rho0",          "particleSpacing", "gravity",
-                                         "eta",           "minIterations",   "maxIterations",
-                                         "fluidRegions",  "emitters",        "initialPacking",
-                                         "kernelSupport", "pressureSource",  NULL};
+static const char *const fluid_keys[] = {"rho0",
+                                         "particleSpacing",
+                                         "gravity",
+                                         "eta",
+                                         "minIterations",
+                                         "maxIterations",
+                                         "fluidRegions",
+                                         "emitters",
+                                         "initialPacking",
+                                         "kernelSupport",
+                                         "pressureSource",
+                                         "kernel",
+                                         NULL};
 
 /* fluid_keys and the names of the effects of constant/fluidProperties. */
 static const char **fluid_and_effect_keys(void)
@@ -469,6 +478,12 @@ static void read_fluid(sl_case *c)
         bad_value(d, "rho0", "must be a liquid's rest density in kg/m^3 (between 1e-3 and 1e5)");
     need(dict_get_scalar(d, "particleSpacing", &p->r0, &err), &err);
     positive(d, "particleSpacing", p->r0);
+    const char *kname;
+    need(dict_get_word_or(d, "kernel", "cubicSpline", &kname, &err), &err);
+    p->kernel = krn_type_of(kname);
+    if (p->kernel < 0)
+        bad_value(d, "kernel",
+                  "must be cubicSpline (Monaghan 1992, the paper's) or wendlandC2 (Wendland 1995)");
     need(dict_get_scalar_or(d, "kernelSupport", 2.0, &p->support, &err), &err);
     if (!(p->support >= 2.0 && p->support <= 4.0))
         bad_value(d, "kernelSupport",

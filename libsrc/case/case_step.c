@@ -50,7 +50,7 @@ double case_initial_step(const sl_case *c, char *rule, size_t len)
         krn_kernel k;
         const double m = pcs_mass(&c->prm), H = fluid_height(c);
         const double gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-        krn_init(&k, pcs_support(&c->prm));
+        pcs_kernel(&c->prm, &k);
         double dtp = ts_initial_pressure(c->prm.eta, c->ts.iterations,
                                          pcs_delta(&k, c->prm.r0, m, c->prm.rho0, 1.0), gn, H);
         if (dtp < dt && dtp >= c->ts.delta_t_min) {

@@ -158,7 +158,7 @@ int fo_snapshot_load(fo_snapshot *sn, const sl_case *c, const char *tname, unsig
     v->mass = pcs_mass(&c->prm);
     v->periodic = c->prm.periodic.axes ? &c->prm.periodic : NULL;
     v->boundary_images = 0; /* boundary.vtu holds the real particles only */
-    krn_init(&v->k, v->h);
+    pcs_kernel(&c->prm, &v->k);
     char *path = file_path(c, tname, "fluid.vtu");
     int rc = load_fluid(sn, path, err);
     free(path);

@@ -42,7 +42,7 @@ double pcs_mass_lattice(const pcs_params *p)
 {
     const double r0 = p->r0;
     krn_kernel k;
-    krn_init(&k, pcs_support(p));
+    pcs_kernel(p, &k);
     const int reach = (int)ceil(p->support) + 1;
     double sum = 0.0;
     for (int i = -reach; i <= reach; i++)
@@ -701,7 +701,7 @@ void pcs_init_part(pcs_solver *s, const pcs_params *p, sl_fluid *f, sl_boundary 
     s->f = f;
     s->b = b;
     s->eff = effects;
-    krn_init(&s->k, s->h);
+    pcs_kernel(p, &s->k);
     const size_t max_cells = plan
         ? pcs_grid_cells(pcd_plan_fluid_total(plan), pcd_plan_boundary_total(plan))
         : pcs_grid_cells(f->n, b->n);

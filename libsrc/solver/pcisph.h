@@ -36,6 +36,7 @@ typedef struct pcs_params {
     double rho0;    /* rest density */
     double r0;      /* particle spacing */
     double support; /* the kernel's support radius over r0 (kernelSupport; the paper's 2) */
+    int kernel;     /* KRN_CUBIC_SPLINE (the paper's) or KRN_WENDLAND_C2 (kernel) */
     double gravity[3];
     double eta; /* tolerated density error, fraction of rho0 (0.01 = 1 %) */
     int min_iter, max_iter;
@@ -82,15 +83,21 @@ void pcs_params_default(pcs_params *p);
  * 0.99997 rho0).  A wider support's kernel sum over the cubic lattice is
  * up to 0.2 % above 1 / r0^3 (h = 3 r0: 1.0018), which a closed periodic
  * box could never relieve: there m = rho0 over that sum, so that the
- * lattice is at rest density. */
+ * lattice is at rest density (and so for the Wendland kernel at any
+ * support: its lattice sum at 2 r0 is 2.6 % below 1 / r0^3). */
 static inline double pcs_support(const pcs_params *p) { return p->support * p->r0; }
+/* The case's kernel (type and support). */
+static inline void pcs_kernel(const pcs_params *p, krn_kernel *k)
+{
+    krn_init_type(k, p->kernel, pcs_support(p));
+}
 double pcs_mass_lattice(const pcs_params *p);
 /* r0^3 first, then rho0: the solver's order before kernelSupport, kept to
  * the last bit (volatile: -fassociative-math could reorder the product,
  * and a chaotic run follows the last bit of the mass) */
 static inline double pcs_mass(const pcs_params *p)
 {
-    if (p->support != 2.0) return pcs_mass_lattice(p);
+    if (p->support != 2.0 || p->kernel != KRN_CUBIC_SPLINE) return pcs_mass_lattice(p);
     volatile double r3 = p->r0 * p->r0 * p->r0;
     return p->rho0 * r3;
 }

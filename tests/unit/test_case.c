@@ -90,6 +90,8 @@ static const bad_input bad_inputs[] = {
     {"constant/fluidProperties", "maxIterations 2;\n", NULL, "fluidProperties:4", "maxIterations"},
     {"constant/fluidProperties", "kernelSupport 1.5;\n", NULL, "fluidProperties:4",
      "'kernelSupport'"},
+    {"constant/fluidProperties", "kernel gaussian;\n", NULL, "fluidProperties:4",
+     "must be cubicSpline (Monaghan 1992, the paper's) or wendlandC2"},
     {"constant/fluidProperties", "initialPacking hexagonal;\n", NULL, "fluidProperties:4",
      "'hexagonal' is not one of: cubic relaxed"},
     {"constant/fluidProperties", "initialPacking (relaxed);\n", NULL, "fluidProperties:4",

@@ -163,7 +163,8 @@ static void print_world(const run *r, const char *dt_rule)
         sl_info("  periodic            %s (%zu boundary images; fluid images every step)", ax,
                 s->halo.nb_img);
     }
-    sl_info("  particle spacing r0 %g m, support radius h %g m", c->prm.r0, s->h);
+    sl_info("  particle spacing r0 %g m, support radius h %g m (%g r0), kernel %s", c->prm.r0, s->h,
+            c->prm.support, krn_type_name(c->prm.kernel));
     sl_info("  particle mass       %g kg (rho0 r0^3), rho0 %g kg/m^3", s->mass, c->prm.rho0);
     sl_info("  boundary mass       gamma %.6f (Akinci volume x gamma), static density factor %.6f",
             s->cal.gamma, s->cal.c_static);

@@ -195,7 +195,7 @@ static classified classify(const sl_case *c, const char *dir, const char *tname,
     if (!pr || pr->ncomp != 1) sl_fatal("%s: no scalar point array 'pressure'", fpath);
     const double r0 = c->prm.r0, rho0 = c->prm.rho0, mass = pcs_mass(&c->prm);
     krn_kernel k;
-    krn_init(&k, pcs_support(&c->prm));
+    pcs_kernel(&c->prm, &k);
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t i = 0; i < f.npoints + b.npoints; i++) {
         const double *p = i < f.npoints ? &f.points[3 * i] : &b.points[3 * (i - f.npoints)];

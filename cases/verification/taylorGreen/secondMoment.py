@@ -18,6 +18,9 @@ nearest neighbour's distance over r0.
 
   secondMoment.py <case>/<time>/fluid.vtu <r0>   (an ascii vtu: writeFormat ascii)
   secondMoment.py -lattice                       (the cubic lattice at k r0 of the sweeps)
+  secondMoment.py -error <fluid.vtu> <t> [bin]   (the velocity error at time t: rms over U of
+      its in-plane part and of vz, and of its average over cells of side bin (default 0.01 m,
+      the smooth part) and of the rest (the particle-scale part); U 0.1, nu 0.001)
 Pure Python (no numpy): about 1 s per 1000 particles.
 """
 import math
@@ -108,9 +111,51 @@ def packing(path, r0):
           % (path, num / den, txx / n, math.sqrt(gc2 / n) * r0, near_sum / n, near_min, n))
 
 
+def error(path, t, cell):
+    txt = open(path).read()
+
+    def arr(name):
+        m = re.search(r'Name="%s"[^>]*format="ascii"[^>]*>(.*?)</DataArray>' % name, txt, re.S)
+        if not m:
+            sys.exit("%s: no ascii %s (write the case with writeFormat ascii)" % (path, name))
+        return [float(s) for s in m.group(1).split()]
+
+    p, v = arr("Points"), arr("velocity")
+    n, k, u = len(p) // 3, 2.0 * math.pi / BOX[0], 0.1
+    f = u * math.exp(-2.0 * 0.001 * k * k * t)
+    e = []
+    for i in range(n):
+        x, y = p[3 * i], p[3 * i + 1]
+        e.append((v[3 * i] - f * math.sin(k * x) * math.cos(k * y),
+                  v[3 * i + 1] + f * math.cos(k * x) * math.sin(k * y), v[3 * i + 2]))
+    nb = [max(1, int(round(BOX[c] / cell))) for c in range(3)]
+    key = [tuple(int((p[3 * i + c] % BOX[c]) / BOX[c] * nb[c]) % nb[c] for c in range(3))
+           for i in range(n)]
+    acc = {}
+    for i in range(n):
+        a = acc.setdefault(key[i], [0.0, 0.0, 0.0, 0])
+        for c in range(3):
+            a[c] += e[i][c]
+        a[3] += 1
+    smooth = rest = 0.0
+    for i in range(n):
+        a = acc[key[i]]
+        for c in range(3):
+            m = a[c] / a[3]
+            smooth += m * m
+            rest += (e[i][c] - m) ** 2
+    rms = lambda s: math.sqrt(s / n) / u
+    print("%s: error %.5f of U: in-plane %.5f, vz %.5f; averaged over %g m cells %.5f, the rest %.5f"
+          % (path, rms(sum(a * a + b * b + c * c for a, b, c in e)),
+             rms(sum(a * a + b * b for a, b, _ in e)), rms(sum(c * c for _, _, c in e)), cell,
+             rms(smooth), rms(rest)))
+
+
 if __name__ == "__main__":
     if len(sys.argv) == 2 and sys.argv[1] == "-lattice":
         lattice()
+    elif len(sys.argv) in (4, 5) and sys.argv[1] == "-error":
+        error(sys.argv[2], float(sys.argv[3]), float(sys.argv[4]) if len(sys.argv) == 5 else 0.01)
     elif len(sys.argv) == 3:
         packing(sys.argv[1], float(sys.argv[2]))
     else:
