@@ -39,6 +39,21 @@ static int mpi_here(void)
         }                                                                              \
     } while (0)
 
+/* The sanitizer build (tests/run_tests --quick, SLUICE_QUICK=1) skips the
+ * tests that repeat, for another boundary method, exchange paths its other
+ * tests run (each rank under ASan costs 5-15 s here; CI must stay under 30
+ * minutes); the release run asserts them.  Reported as skipped. */
+#define SKIP_UNDER_SANITIZERS()                                                            \
+    do {                                                                                   \
+        const char *q_ = getenv("SLUICE_QUICK");                                           \
+        if (q_ && !strcmp(q_, "1")) {                                                      \
+            print_message("sanitizer build (SLUICE_QUICK=1): the same exchanges as the "   \
+                          "other tests, another boundary method; the release run asserts " \
+                          "this test: skipped\n");                                         \
+            skip();                                                                        \
+        }                                                                                  \
+    } while (0)
+
 /* How the tests start ranks.  Under the sanitizers (make test-debug) Open MPI's
  * own allocations are still held at exit and LeakSanitizer would fail every
  * rank, so leak checking is off for the ranks (serial runs keep it); ASan's
@@ -254,18 +269,12 @@ static void test_ranks_times_threads(void **state)
     same_output("parDamSerialT", "parDam2x2");
 }
 
-/* The gather mode of phase 1 (SLUICE_PARALLEL_EXCHANGE=gather), and the
- * boundary methods without wall density (becker2009, harada2007) on 3
- * ranks: the serial files too. */
-static void test_gather_mode_and_becker(void **state)
+/* The gather mode of phase 1 (SLUICE_PARALLEL_EXCHANGE=gather) on 2 ranks
+ * and the halo mode (=halo) on 3: the serial files too. */
+static void test_gather_and_halo_modes(void **state)
 {
     (void)state;
     NEED_MPI();
-    char edit[2048];
-    snprintf(edit, sizeof edit,
-             "%s && sed -i 's/^method .*/method becker2009;/' "
-             "constant/boundaryProperties",
-             dam);
     assert_int_equal(run_np("tests/cases/damBreakShort", "parGatherSerial", dam, 0), 0);
     setenv("SLUICE_PARALLEL_EXCHANGE", "gather", 1);
     int rc = run_np("tests/cases/damBreakShort", "parGather2", dam, 2);
@@ -281,6 +290,20 @@ static void test_gather_mode_and_becker(void **state)
     assert_int_equal(rc, 0);
     same_output("parGatherSerial", "parHalo3");
     assert_int_equal(system("grep -q 'parallel: halo mode' tests/output/parHalo3/log.pcisph"), 0);
+}
+
+/* The boundary methods without wall density (becker2009, harada2007) on 3
+ * ranks of the domain mode: the serial files. */
+static void test_boundary_methods(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    SKIP_UNDER_SANITIZERS();
+    char edit[2048];
+    snprintf(edit, sizeof edit,
+             "%s && sed -i 's/^method .*/method becker2009;/' "
+             "constant/boundaryProperties",
+             dam);
     assert_int_equal(run_np("tests/cases/damBreakShort", "parBeckerSerial", edit, 0), 0);
     assert_int_equal(run_np("tests/cases/damBreakShort", "parBecker3", edit, 3), 0);
     same_output("parBeckerSerial", "parBecker3");
@@ -956,7 +979,8 @@ int main(void)
         cmocka_unit_test(test_streamed_output),
         cmocka_unit_test(test_pressure_source),
         cmocka_unit_test(test_ranks_times_threads),
-        cmocka_unit_test(test_gather_mode_and_becker),
+        cmocka_unit_test(test_gather_and_halo_modes),
+        cmocka_unit_test(test_boundary_methods),
         cmocka_unit_test(test_density_and_tension_effects),
         cmocka_unit_test(test_moving_boundary),
         cmocka_unit_test(test_emitter),
