@@ -16,19 +16,25 @@
 #include "kernel/sph_sums.h"
 #include "solver/pcisph.h"
 
-/* Sum of W over a fine cubic lattice times the cell volume: ~ 1. */
+/* Sum of W over a fine cubic lattice (25 cells per support radius h)
+ * times the cell volume: the kernel's integral. */
+static double lattice_integral(const krn_kernel *k)
+{
+    const double dx = k->h / 25.0;
+    double s = 0.0;
+    for (int i = -26; i <= 26; i++)
+        for (int j = -26; j <= 26; j++)
+            for (int l = -26; l <= 26; l++)
+                s += krn_w(k, dx * sqrt((double)(i * i + j * j + l * l)));
+    return s * dx * dx * dx;
+}
+
 static void test_normalisation(void **state)
 {
     (void)state;
     krn_kernel k;
     krn_init(&k, 0.1);
-    const double dx = 0.1 / 25.0;
-    double s = 0.0;
-    for (int i = -26; i <= 26; i++)
-        for (int j = -26; j <= 26; j++)
-            for (int l = -26; l <= 26; l++)
-                s += krn_w(&k, dx * sqrt((double)(i * i + j * j + l * l)));
-    assert_close(s * dx * dx * dx, 1.0, 1e-3);
+    assert_close(lattice_integral(&k), 1.0, 1e-3);
 }
 
 static void test_support_and_continuity(void **state)
@@ -109,13 +115,7 @@ static void test_wendland_normalisation_and_support(void **state)
     krn_kernel k;
     krn_init_type(&k, KRN_WENDLAND_C2, 0.1);
     assert_int_equal(k.type, KRN_WENDLAND_C2);
-    const double dx = 0.1 / 25.0;
-    double s = 0.0;
-    for (int i = -26; i <= 26; i++)
-        for (int j = -26; j <= 26; j++)
-            for (int l = -26; l <= 26; l++)
-                s += krn_w(&k, dx * sqrt((double)(i * i + j * j + l * l)));
-    assert_close(s * dx * dx * dx, 1.0, 1e-3);
+    assert_close(lattice_integral(&k), 1.0, 1e-3);
     krn_init_type(&k, KRN_WENDLAND_C2, 2.0);
     assert_true(krn_w(&k, 2.0) == 0.0);
     assert_true(krn_w(&k, 2.5) == 0.0);
