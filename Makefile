@@ -3,6 +3,9 @@
 # build/debug and bin-debug/; `make test` runs the unit and case tests;
 # `make demo` installs what is missing, builds and runs tutorials/damBreak.
 
+# `make` alone builds everything (`all`), whatever rule comes first below.
+.DEFAULT_GOAL := all
+
 CC       ?= gcc
 MODE     ?= release
 # The release build is tuned for the build machine; ARCH=-march=x86-64-v3
