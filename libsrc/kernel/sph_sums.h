@@ -109,6 +109,8 @@ static inline __m256i sph__idx(const uint32_t *idx, uint32_t q, __mmask8 m)
 {
     return _mm256_maskz_loadu_epi32(m, idx + q);
 }
+#else
+#define SPH_SUMS_AVX512 0 /* the scalar loops */
 #endif
 
 /* sum_j W(|p - x_j|) */
