@@ -418,12 +418,14 @@ static void read_packing(sl_case *c, const dict *d)
  *   pressureSource mixed;         the divergence source plus densityWeight (0.05) of the
  *                                 density error
  *   pressureSource { type divergence; warmStart off; gradientCorrection on; }
+ *   pressureSource { type divergence; ...; meanPressure 0; }   the pressures not clamped,
+ *                                 their mean held at 0 Pa (a box periodic along every axis)
  * and densityWeight in the dictionary of type mixed. */
-static void read_source(const dict *d, pcs_params *p)
+static void read_source(const dict *d, pcs_params *p, case_where *mean_where)
 {
     static const char *const types[] = {"density", "divergence", "mixed", NULL};
-    static const char *const keys[] = {"type", "densityWeight", "warmStart", "gradientCorrection",
-                                       NULL};
+    static const char *const keys[] = {
+        "type", "densityWeight", "warmStart", "gradientCorrection", "meanPressure", NULL};
     sl_err err;
     const char *w;
     p->source = PCS_SOURCE_DENSITY;
@@ -449,6 +451,22 @@ static void read_source(const dict *d, pcs_params *p)
                       "divergence and mixed)");
         need(dict_get_bool_or(q, "warmStart", 1, &p->warm_start, &err), &err);
         need(dict_get_bool_or(q, "gradientCorrection", 0, &p->grad_correction, &err), &err);
+        if (dict_has(q, "meanPressure")) {
+            if (p->source != PCS_SOURCE_DIVERGENCE)
+                bad_value(q, "meanPressure",
+                          "is an option of type divergence only (the mixed source's density "
+                          "error fixes the pressure level)");
+            need(dict_get_scalar(q, "meanPressure", &p->mean_pressure, &err), &err);
+            if (!(fabs(p->mean_pressure) <= 1e9))
+                bad_value(q, "meanPressure",
+                          "must be the fluid's mean pressure in Pa (e.g. 0), at most 1e9 in size");
+            if (par_size() > 1)
+                bad_value(q, "meanPressure",
+                          "is not yet parallel (the mean over every rank's particles is not "
+                          "built): run without -parallel");
+            p->hold_mean = 1;
+            set_where(mean_where, dict_lookup(q, "meanPressure"));
+        }
     }
     if (p->source == PCS_SOURCE_MIXED) {
         p->source_mix = CASE_SOURCE_MIX;
@@ -517,7 +535,7 @@ static void read_fluid(sl_case *c)
         bad_value(d, "maxIterations", why);
     }
     p->max_iter = (int)l;
-    read_source(d, p);
+    read_source(d, p, &c->mean_where);
     /* the effects of the fluid, in the order they act: gravity first */
     void *g = eff_gravity_new(p->gravity);
     if (g) eff_add(&c->effects, &eff_gravity, g);
@@ -858,6 +876,11 @@ void case_read(sl_case *c, const char *dir)
         sl_fatal("%s: particleShifting: only in a box periodic along every axis (periodic (x y "
                  "z); in constant/boundaryProperties): it has no free-surface treatment yet",
                  eff_particle_shifting_where(shift->state));
+    if (c->prm.hold_mean && c->prm.periodic.axes != 7u) /* a free surface fixes the level */
+        sl_fatal("%s: keyword 'meanPressure': only in a box periodic along every axis "
+                 "(periodic (x y z); in constant/boundaryProperties): at a free surface the "
+                 "pressure is 0, and negative pressures would pull the surface together",
+                 c->mean_where.text);
     void *moving = eff_moving_boundary_new(c->motions, c->nshapes);
     if (moving) eff_add(&c->effects, &eff_moving_boundary, moving);
     sl_err err;

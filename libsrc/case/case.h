@@ -93,6 +93,7 @@ typedef struct sl_case {
     emt_emitter *emitters;     /* constant/fluidProperties: emitters { } */
     case_where *emitter_where; /* of each emitter's entry */
     size_t nemitters;
+    case_where mean_where; /* pressureSource's meanPressure entry (the periodic check) */
     sl_fluid fluid;
     sl_boundary boundary;
     double lo[3], hi[3]; /* scene bounds for the neighbour grid */

@@ -201,7 +201,7 @@ static void boundary_density(const pcs_solver *s, int part)
                 : (1.0 - s->prm.source_mix) * d + s->prm.source_mix * e;
         }
         const double pn = bp[i] + delta * e;
-        const double pc = pn > 0.0 ? pn : 0.0;
+        const double pc = pn > 0.0 || s->prm.hold_mean ? pn : 0.0; /* meanPressure */
         brho[i] = r;
         bp[i] = pc;
         bpt[i] = pc / (r * r);
@@ -360,6 +360,7 @@ typedef struct pass_ctx {
     const double *bvx, *bvy, *bvz;
     double dt, mix;
     int source;       /* pressureSource (PCS_SOURCE_*) */
+    double pmin;      /* the clamp of eq. (3)'s update: 0, or -HUGE_VAL with meanPressure */
     const double *lc; /* the gradient correction of each fluid particle (9 per particle) */
     const double *bx, *by, *bz, *bm;
     double *rho, *p, *pt, *err, *err_vol;
@@ -395,6 +396,7 @@ static pass_ctx pass_begin(pcs_solver *s, const double *x, const double *y, cons
                   .dt = s->dt,
                   .mix = s->prm.source_mix,
                   .source = s->prm.source,
+                  .pmin = s->prm.hold_mean ? -HUGE_VAL : 0.0,
                   .lc = s->prm.grad_correction ? s->lcorr : NULL,
                   .bx = b->x,
                   .by = b->y,
@@ -497,7 +499,7 @@ predict_one(const pass_ctx *c, size_t i, const int wall, const wall_density_fn w
         e = c->source == PCS_SOURCE_DIVERGENCE ? d : (1.0 - c->mix) * d + c->mix * e;
     }
     const double pn = c->p[i] + c->delta * e; /* eq. (3) */
-    const double pc = pn > 0.0 ? pn : 0.0;
+    const double pc = pn > c->pmin ? pn : c->pmin;
     c->p[i] = pc;
     c->pt[i] = pc / (r * r);
     const double cmp = e > 0.0 ? e : 0.0;
@@ -1075,6 +1077,38 @@ static void gradient_correction(pcs_solver *s)
     }
 }
 
+/* meanPressure: the pressures of fluid and active boundary particles
+ * shifted by one constant so that the fluid's mean is mean_pressure (in a
+ * box without a free surface the projection's operator has the constant
+ * in its null space: each update's mean source would otherwise move the
+ * level, and on a disordered packing a level is a force of the symmetric
+ * form, eq. (6)).  The mean is sl_sum's: the same bits on any number of
+ * threads.  Serial only (the case reader refuses -parallel). */
+static void hold_mean_pressure(pcs_solver *s)
+{
+    sl_fluid *f = s->f;
+    sl_boundary *b = s->b;
+    const size_t n = f->n;
+    if (!n) return;
+    const double shift = s->prm.mean_pressure - sl_sum(f->p, n) / (double)n;
+    const uint32_t *act = s->active;
+#pragma omp parallel
+    {
+#pragma omp for schedule(static) nowait
+        for (size_t i = 0; i < n; i++) {
+            f->p[i] += shift;
+            f->pt[i] = f->p[i] / (f->rho[i] * f->rho[i]);
+        }
+        const size_t nb = s->prm.method->wall_density ? s->nactive : 0; /* eq. (13) */
+#pragma omp for schedule(static) nowait
+        for (size_t q = 0; q < nb; q++) {
+            const uint32_t i = act[q];
+            b->p[i] += shift;
+            b->pt[i] = b->p[i] / (b->rho[i] * b->rho[i]);
+        }
+    }
+}
+
 /* The loop of Algorithm 2: predict, correct the pressure, until the
  * largest predicted compression is at most eta (after minIterations, at
  * most maxIterations). */
@@ -1091,7 +1125,8 @@ static void pressure_solve(pcs_solver *s, pcs_stats *st)
         PHASE(s, predict, predict_positions(s));         /* v*, x*; eq. (9)-(11) */
         halo_refresh(s, 0);                              /* images' x* */
         PHASE(s, density, emax = s->passes->predict(s)); /* rho*, eq. (13); p, eq. (3) */
-        halo_refresh(s, 1);                              /* images' rho, p, p/rho^2 */
+        if (s->prm.hold_mean) PHASE(s, density, hold_mean_pressure(s));
+        halo_refresh(s, 1); /* images' rho, p, p/rho^2 */
         if (k == 0) {
             st->err_max_before = emax / s->prm.rho0;
             st->err_avg_before = average_of(s, s->err_sum);

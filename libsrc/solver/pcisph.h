@@ -15,7 +15,9 @@
  * Negative pressure: a particle at the free surface has a deficient
  * neighbourhood and a predicted density below rho0; its pressure would
  * pull the surface together (tensile instability).  We clamp pressures at
- * zero after each update, as SPlisHSPlasH and most PCISPH codes do.  The
+ * zero after each update, as SPlisHSPlasH and most PCISPH codes do, except
+ * with meanPressure (a periodic box: no surface, and the clamp would leave
+ * a background pressure that grows with the iterations).  The
  * density error statistics count compression only: max(rho - rho0, 0).
  */
 #ifndef SL_PCISPH_H
@@ -63,12 +65,17 @@ typedef struct pcs_params {
      * velocity-divergence source with a density-invariance correction, as
      * in Hu & Adams 2007, Asai et al. 2012). */
     int source;
-    double source_mix;   /* mixed: the density error's weight, in (0, 1) */
-    int warm_start;      /* divergence, mixed: each step starts from the last step's
+    double source_mix;    /* mixed: the density error's weight, in (0, 1) */
+    int warm_start;       /* divergence, mixed: each step starts from the last step's
                           * pressures (DFSPH's warm start; 0: from zero, as PCISPH) */
-    int grad_correction; /* divergence, mixed: the density change with the kernel gradient
+    int grad_correction;  /* divergence, mixed: the density change with the kernel gradient
                           * correction L_i of Bonet & Lok 1999 (exact for a linear
                           * velocity field on any packing) */
+    int hold_mean;        /* divergence (meanPressure): pressures not clamped at zero and
+                          * their mean over the fluid held at mean_pressure after every
+                          * update; for a box without a free surface, where the
+                          * projection fixes the pressure only up to a constant */
+    double mean_pressure; /* Pa */
 } pcs_params;
 
 enum { PCS_SOURCE_DENSITY = 0, PCS_SOURCE_DIVERGENCE = 1, PCS_SOURCE_MIXED = 2 };
