@@ -47,7 +47,9 @@ typedef struct vc_setup {
 typedef struct vc_sample {
     double t;
     double err;    /* the norm this kind is judged by, at this time */
-    double perr;   /* hydrostatic pressure error / (rho0 g H) */
+    double perr;   /* hydrostatic pressure error / (rho0 g H); taylorGreen: the rms of p
+                         against rho0 U^2 F^2 (cos 2kx + cos 2ky) / 4, each up to its
+                         mean (the periodic box fixes no level), over rho0 U^2 */
     double vrms;   /* rms speed against the exact velocity (m/s) */
     double ke;     /* kinetic energy per unit mass (m^2/s^2) */
     double height; /* the highest particle + r0/2 (m) */

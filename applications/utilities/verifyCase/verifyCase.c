@@ -224,6 +224,8 @@ static void write_summary(const sl_case *c, const vc_setup *s, double error, dou
             "#   least-squares fit of the whole record to A exp(-d t) cos(w t + phi) + c, with\n"
             "#   its one-sigma uncertainties; fitError |periodFit - linear| / linear,\n"
             "#   fitDecayError as decayError, fitResidual the residual rms over A\n"
+            "# pressureError: the last written time's (taylorGreen: the rms of p against the\n"
+            "#   exact pressure, each up to its mean, over rho0 U^2)\n"
             "# error\tpressureError\tvelocityRms\tparticles\tr0\twallTime\tsteps\treached"
             "\tdecayRate\tdecayExact\tdecayError\tperiodFit\tperiodFitSigma\tfitError"
             "\tdecayFit\tdecayFitSigma\tfitDecayError\tfitResidual\n",
