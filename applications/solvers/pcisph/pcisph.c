@@ -1000,6 +1000,7 @@ static void relax(run *r)
     pcs_params prm = r->c.prm;
     prm.one_rank = 1;
     prm.source = PCS_SOURCE_DENSITY; /* packed to rest density, whatever the run solves */
+    prm.hold_mean = 0;               /* the density source's clamp (meanPressure is the run's) */
     sl_boundary walls;
     prt_boundary_copy(&walls, &r->c.boundary);
     pcs_solver s;
