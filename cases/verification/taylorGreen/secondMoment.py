@@ -115,16 +115,20 @@ def packing(path, r0):
           % (path, num / den, txx / n, math.sqrt(gc2 / n) * r0, near_sum / n, near_min, n))
 
 
-def error(path, t, cell):
+def ascii_arrays(path, *names):
+    """The named DataArrays of an ascii vtu, each as a flat list of floats."""
     txt = open(path).read()
-
-    def arr(name):
+    out = []
+    for name in names:
         m = re.search(r'Name="%s"[^>]*format="ascii"[^>]*>(.*?)</DataArray>' % name, txt, re.S)
         if not m:
             sys.exit("%s: no ascii %s (write the case with writeFormat ascii)" % (path, name))
-        return [float(s) for s in m.group(1).split()]
+        out.append([float(s) for s in m.group(1).split()])
+    return out
 
-    p, v = arr("Points"), arr("velocity")
+
+def error(path, t, cell):
+    p, v = ascii_arrays(path, "Points", "velocity")
     n, k, u = len(p) // 3, 2.0 * math.pi / BOX[0], 0.1
     f = u * math.exp(-2.0 * 0.001 * k * k * t)
     e = []
@@ -156,15 +160,7 @@ def error(path, t, cell):
 
 
 def pressure(path, t):
-    txt = open(path).read()
-
-    def arr(name):
-        m = re.search(r'Name="%s"[^>]*format="ascii"[^>]*>(.*?)</DataArray>' % name, txt, re.S)
-        if not m:
-            sys.exit("%s: no ascii %s (write the case with writeFormat ascii)" % (path, name))
-        return [float(s) for s in m.group(1).split()]
-
-    x, v, p = arr("Points"), arr("velocity"), arr("pressure")
+    x, v, p = ascii_arrays(path, "Points", "velocity", "pressure")
     n, k, u = len(p), 2.0 * math.pi / BOX[0], 0.1
     f = u * math.exp(-2.0 * 0.001 * k * k * t)
     ex = [250.0 * f * f * (math.cos(2 * k * x[3 * i]) + math.cos(2 * k * x[3 * i + 1]))
