@@ -301,7 +301,7 @@ static void test_standing_wave_decay(void **state)
 #define SW_PERIOD_FIT       11 /* summary.dat's periodFit, periodFitSigma, fitError */
 #define SW_PERIOD_FIT_SIGMA 12
 #define SW_FIT_ERROR        13
-static void assert_period_fit(const char *name, double lo, double hi)
+static void assert_period_fit(const char *name, double lo, double hi, double agree)
 {
     const double t = summary_column(name, SW_PERIOD_FIT),
                  sd = summary_column(name, SW_PERIOD_FIT_SIGMA),
@@ -310,7 +310,7 @@ static void assert_period_fit(const char *name, double lo, double hi)
                   e, ez);
     assert_true(isfinite(t) && sd > 0.0 && sd < 0.002);
     assert_true(e > lo && e < hi);
-    assert_true(fabs(e - ez) < 0.01); /* the same oscillation as the zero crossings' */
+    assert_true(fabs(e - ez) < agree); /* the same oscillation as the zero crossings' */
 }
 static void test_standing_wave_period_kernel_support(void **state)
 {
@@ -327,8 +327,8 @@ static void test_standing_wave_period_kernel_support(void **state)
     print_message("period error %.4g at h = 2 r0, %.4g at 2.2 r0\n", e20, e22);
     assert_true(e20 > 0.025);
     assert_true(e22 < 0.012);
-    assert_period_fit("standingWave_h2.0_0.005", 0.025, 1.0);
-    assert_period_fit("standingWave_h2.2_0.005", 0.0, 0.006);
+    assert_period_fit("standingWave_h2.0_0.005", 0.025, 1.0, 0.01);
+    assert_period_fit("standingWave_h2.2_0.005", 0.0, 0.006, 0.01);
 }
 
 /* The Wendland C2 kernel (kernel wendlandC2) on the standing wave at r0
@@ -337,7 +337,10 @@ static void test_standing_wave_period_kernel_support(void **state)
  * cubic spline at the same support measured 0.0110 and 0.0131
  * (doc/verification.md, "The kernel: Wendland C2").  Asserted: Wendland
  * below 0.015 and 0.005 (the runs' own spread is about +-0.005 and
- * +-0.002), the cubic spline's fit above 0.008.  The sanitizer build runs
+ * +-0.002), the cubic spline's fit above 0.008 and within 0.02 of its zero
+ * crossings (its record is the noisier: on a machine without AVX-512,
+ * whose scalar sums round differently, it measured 0.0201 against 0.0098;
+ * a fit locked on another oscillation is off by far more).  The sanitizer build runs
  * the Wendland level only (the solver's Wendland loops under ASan). */
 static void test_standing_wave_period_wendland(void **state)
 {
@@ -353,11 +356,11 @@ static void test_standing_wave_period_wendland(void **state)
     double ew = level("standingWave", "standingWave_wendland_0.01", 0.01, 0.002, edit);
     print_message("period error %.4g with wendlandC2 at 2.2 r0 (r0 0.01)\n", ew);
     assert_true(ew < 0.015);
-    assert_period_fit("standingWave_wendland_0.01", 0.0, 0.005);
+    assert_period_fit("standingWave_wendland_0.01", 0.0, 0.005, 0.01);
     SKIP_UNDER_SANITIZERS();
     double ec = level("standingWave", "standingWave_cubic22_0.01", 0.01, 0.002, cubic);
     print_message("period error %.4g with cubicSpline at 2.2 r0 (r0 0.01)\n", ec);
-    assert_period_fit("standingWave_cubic22_0.01", 0.008, 1.0);
+    assert_period_fit("standingWave_cubic22_0.01", 0.008, 1.0, 0.02);
 }
 
 /* The Taylor-Green velocity field as set up (velocityField) and its first
