@@ -703,6 +703,22 @@ static void test_taylor_green_divergence_converges(void **state)
  * 4.5 %; the uncorrected shift's r0 0.01 error above the corrected one's.
  * The shift is the same on 1 and 2 threads (r0 0.005, 4 blocks of the
  * shift's 1024: the files at 0.05 s are identical). */
+/* The run `name` of level() again on 2 threads to 0.05 s (edit: the
+ * edits it ran with, r0 0.005, dt 0.0005): its 0.05 s file must be the
+ * 1-thread run's, bit for bit. */
+static void assert_same_on_two_threads(const char *name, const char *edit)
+{
+    char edit2[1536], name2[256];
+    snprintf(edit2, sizeof edit2,
+             "%s && %s/editDictionary system/controlDict -entry numberOfThreads -set 2 && "
+             "%s/editDictionary system/controlDict -entry endTime -set 0.05",
+             edit, bin_dir(), bin_dir());
+    snprintf(name2, sizeof name2, "%s_threads2", name);
+    level("taylorGreen", name2, 0.005, 0.0005, edit2);
+    assert_int_equal(run("cmp " OUT "/%s/0.05/fluid.vtu " OUT "/%s/0.05/fluid.vtu", name, name2),
+                     0);
+}
+
 #define TG_SHIFT(opt)                                                                        \
     " && sed -i 's/^laminarViscosity .*/&\\nparticleShifting { coefficient 0.1;" opt " }/' " \
     "constant/fluidProperties"
@@ -727,14 +743,7 @@ static void test_taylor_green_shifting_converges(void **state)
              TG_DIVERGENCE("%s", "0.25") TG_MIN6 TG_SHIFT(" velocityCorrection off;"), src);
     double u1 = level("taylorGreen", "taylorGreen_shift_0.01_uncorrected", 0.01, 0.001, edit2);
     assert_true(u1 > e1 * 1.1);
-    snprintf(edit2, sizeof edit2,
-             "%s && %s/editDictionary system/controlDict -entry numberOfThreads -set 2 && "
-             "%s/editDictionary system/controlDict -entry endTime -set 0.05",
-             edit, bin_dir(), bin_dir());
-    level("taylorGreen", "taylorGreen_shift_0.005_threads2", 0.005, 0.0005, edit2);
-    assert_int_equal(run("cmp " OUT "/taylorGreen_shift_0.005/0.05/fluid.vtu " OUT
-                         "/taylorGreen_shift_0.005_threads2/0.05/fluid.vtu"),
-                     0);
+    assert_same_on_two_threads("taylorGreen_shift_0.005", edit);
 }
 
 /* The same with the laminar viscosity normalized by the packing's second
@@ -805,15 +814,7 @@ static void test_taylor_green_mean_pressure(void **state)
     snprintf(edit, sizeof edit, TG_DIVERGENCE("%s", "0.25") TG_MIN24 TG_SHIFT("") TG_NORMALIZED,
              held);
     const double e24 = level("taylorGreen", "taylorGreen_mean_0.005_24", 0.005, 0.0005, edit);
-    char edit2[1280];
-    snprintf(edit2, sizeof edit2,
-             "%s && %s/editDictionary system/controlDict -entry numberOfThreads -set 2 && "
-             "%s/editDictionary system/controlDict -entry endTime -set 0.05",
-             edit, bin_dir(), bin_dir());
-    level("taylorGreen", "taylorGreen_mean_0.005_24_threads2", 0.005, 0.0005, edit2);
-    assert_int_equal(run("cmp " OUT "/taylorGreen_mean_0.005_24/0.05/fluid.vtu " OUT
-                         "/taylorGreen_mean_0.005_24_threads2/0.05/fluid.vtu"),
-                     0); /* the held mean's sum: the same bits on 2 threads */
+    assert_same_on_two_threads("taylorGreen_mean_0.005_24", edit); /* the held mean's sum */
     snprintf(edit, sizeof edit, TG_DIVERGENCE("%s", "0.25") TG_MIN24 TG_SHIFT("") TG_NORMALIZED,
              clamped);
     const double c24 = level("taylorGreen", "taylorGreen_clamped_0.005_24", 0.005, 0.0005, edit);
