@@ -460,10 +460,6 @@ static void read_source(const dict *d, pcs_params *p, case_where *mean_where)
             if (!(fabs(p->mean_pressure) <= 1e9))
                 bad_value(q, "meanPressure",
                           "must be the fluid's mean pressure in Pa (e.g. 0), at most 1e9 in size");
-            if (par_size() > 1)
-                bad_value(q, "meanPressure",
-                          "is not yet parallel (the mean over every rank's particles is not "
-                          "built): run without -parallel");
             p->hold_mean = 1;
             set_where(mean_where, dict_lookup(q, "meanPressure"));
         }

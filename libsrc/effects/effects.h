@@ -55,13 +55,14 @@ typedef struct eff_view {
      * wall_density (whether the wall's share is part of the density) */
     const double *px, *py, *pz;
     int wall_density;
-    /* EFF_FORCES: only the forces of rows [row0, row1) are needed when
-     * rows_only (-parallel's halo mode: a rank's own rows); else all */
+    /* EFF_FORCES and EFF_SHIFT: only rows [row0, row1) are acted on when
+     * rows_only (-parallel's halo and domain modes: a rank's own rows,
+     * the others' halo read as neighbours); else all */
     int rows_only;
     size_t row0, row1;
 } eff_view;
 
-/* The rows whose forces an EFF_FORCES effect computes. */
+/* The rows an EFF_FORCES or EFF_SHIFT effect acts on. */
 static inline size_t eff_rows_from(const eff_view *v) { return v->rows_only ? v->row0 : 0; }
 static inline size_t eff_rows_to(const eff_view *v) { return v->rows_only ? v->row1 : v->f->n; }
 

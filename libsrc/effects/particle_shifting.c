@@ -7,7 +7,6 @@
 
 #include "core/sl_mem.h"
 #include "kernel/kernel_correction.h"
-#include "parallel/par.h"
 
 /* The default D: the best of 0.005-0.5 on the Taylor-Green vortex
  * (doc/verification.md, "Particle shifting"). */
@@ -47,8 +46,6 @@ static void *read(const dict *d, const eff_setup *su)
                    SHIFT_COEFFICIENT);
     dict_need(dict_get_bool_or(v, "velocityCorrection", SHIFT_VELOCITY_CORRECTION, &s->vcorr, &err),
               &err);
-    if (par_size() > 1)
-        dict_fatal(d, "particleShifting", "is not yet parallel: run without -parallel");
     const dict_entry *e = dict_lookup(d, "particleShifting");
     snprintf(s->where, sizeof s->where, "%s:%d", dict_entry_file(e), dict_entry_line(e));
     return s;
@@ -65,12 +62,12 @@ static void shifts_plain(const eff_view *v, double c, double *restrict d)
 {
     const sl_fluid *f = v->f;
     const sl_boundary *b = v->b;
-    const size_t n = f->n;
+    const size_t i0 = eff_rows_from(v), i1 = eff_rows_to(v);
     const krn_kernel k = v->k;
     const double vf = v->mass / v->rho0, irho0 = 1.0 / v->rho0;
     const nbr_list *ff = v->ff, *fb = v->fb;
 #pragma omp parallel for schedule(dynamic, 1024)
-    for (size_t i = 0; i < n; i++) {
+    for (size_t i = i0; i < i1; i++) {
         const double xi = f->x[i], yi = f->y[i], zi = f->z[i];
         double g[3] = {0.0, 0.0, 0.0};
         for (uint32_t q = ff->start[i]; q < ff->start[i + 1]; q++) {
@@ -136,13 +133,14 @@ static inline void shift_corrected(const eff_view *v, size_t i, double c, double
         d[3 + a] = G[3 * a] * Ld[0] + G[3 * a + 1] * Ld[1] + G[3 * a + 2] * Ld[2];
 }
 
-/* The shifts of every fluid particle at x(t), then the positions moved
- * (and, with velocityCorrection, the velocities carried to them). */
+/* The shifts of every fluid particle at x(t) (under -parallel a rank's
+ * own rows, its halo read as neighbours), then the positions moved (and,
+ * with velocityCorrection, the velocities carried to them). */
 static void apply(void *state, const eff_view *v)
 {
     shift_state *s = state;
     sl_fluid *f = v->f;
-    const size_t n = f->n;
+    const size_t n = f->n, i0 = eff_rows_from(v), i1 = eff_rows_to(v);
     const int m = s->vcorr ? 6 : 3; /* doubles per particle */
     if (s->cap < n) {               /* grows with the fluid (emitters), not every step */
         free(s->d);
@@ -153,10 +151,10 @@ static void apply(void *state, const eff_view *v)
     double *restrict d = s->d;
     if (m == 6) {
 #pragma omp parallel for schedule(dynamic, 1024)
-        for (size_t i = 0; i < n; i++) shift_corrected(v, i, c, d + 6 * i);
+        for (size_t i = i0; i < i1; i++) shift_corrected(v, i, c, d + 6 * i);
     } else shifts_plain(v, c, d);
 #pragma omp parallel for schedule(static)
-    for (size_t i = 0; i < n; i++) {
+    for (size_t i = i0; i < i1; i++) {
         const double *di = d + (size_t)m * i;
         f->x[i] += di[0];
         f->y[i] += di[1];

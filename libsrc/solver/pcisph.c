@@ -119,6 +119,16 @@ static eff_view effect_view(pcs_solver *s, double t, double dt, const double *px
                       .wall_density = s->prm.method->wall_density};
 }
 
+/* -parallel's halo and domain modes: a rank predicts and integrates its
+ * own rows only, so its EFF_FORCES and EFF_SHIFT effects act on those. */
+static void own_rows_only(const pcs_solver *s, eff_view *v)
+{
+    if (!s->split.halo) return;
+    v->rows_only = 1;
+    v->row0 = s->split.row[s->split.rank];
+    v->row1 = s->split.row[s->split.rank + 1];
+}
+
 /* Before a density pass at positions (px, py, pz): prepare the EFF_DENSITY
  * effects (counted and timed as every effect). */
 static eff_view density_effects(pcs_solver *s, const double *px, const double *py, const double *pz)
@@ -522,15 +532,15 @@ static inline __attribute__((always_inline)) void pressure_one(const pass_ctx *c
     c->apz[i] = a[2];
 }
 
-/* The density error's sums over this rank's rows of blocks [b0, b1) of
- * the serial order (rows [g0, g1) of it; own row i is row i + gshift),
- * from s->err: each block summed one row at a time, as the serial pass
- * sums its rows (the empty asm keeps the compiler from reassociating). */
-static void own_block_sums(pcs_solver *s, size_t b0, size_t b1, size_t g0, size_t g1)
+/* The sums of rows (s->err for the density error) over this rank's rows
+ * of blocks [b0, b1) of the serial order (rows [g0, g1) of it; own row i
+ * is row i + gshift), into part: each block summed one row at a time, as
+ * the serial pass sums its rows (the empty asm keeps the compiler from
+ * reassociating). */
+static void own_block_sums(const pcs_solver *s, const double *err, double *part, size_t b0,
+                           size_t b1, size_t g0, size_t g1)
 {
     const ptrdiff_t gs = s->split.gshift;
-    const double *err = s->err;
-    double *part = s->err_block;
 #pragma omp parallel for schedule(static)
     for (size_t blk = b0; blk < b1; blk++) {
         const size_t bl = blk * SL_REDUCE_BLOCK, lo = bl > g0 ? bl : g0;
@@ -542,6 +552,83 @@ static void own_block_sums(pcs_solver *s, size_t b0, size_t b1, size_t g0, size_
         }
         part[blk] = sum;
     }
+}
+
+/* The sum of a per-row array over every fluid particle of the case, in
+ * the density error's association (blocks of SL_REDUCE_BLOCK rows, each
+ * summed from 0 one row at a time, the block sums in order): the same
+ * bits on any ranks x threads.  Serial and the gather mode (after the
+ * gather) hold every row; in the halo and domain modes each rank holds its
+ * own rows of a, and the block sums (part: scratch of the blocks) are
+ * continued across the ranks in the serial order (collective). */
+static double fluid_sum(pcs_solver *s, const double *a, double *part)
+{
+    const size_t B = SL_REDUCE_BLOCK, nb = (pcs_fluid_total(s) + B - 1) / B;
+    if (!s->split.halo) {
+        block_sums(a, pcs_fluid_total(s), part);
+        return sum_in_order(part, nb);
+    }
+    const size_t i0 = s->split.row[s->split.rank], i1 = s->split.row[s->split.rank + 1];
+    const ptrdiff_t gs = s->split.gshift;
+    const size_t g0 = (size_t)((ptrdiff_t)i0 + gs), g1 = (size_t)((ptrdiff_t)i1 + gs);
+    own_block_sums(s, a, part, g0 / B, g1 > g0 ? (g1 + B - 1) / B : g0 / B, g0, g1);
+    pcx_block_sums(s, a, part);
+    return sum_in_order(part, nb);
+}
+
+/* meanPressure: the pressures of fluid and active boundary particles
+ * shifted by one constant so that the fluid's mean is mean_pressure (in a
+ * box without a free surface the projection's operator has the constant
+ * in its null space: each update's mean source would otherwise move the
+ * level, and on a disordered packing a level is a force of the symmetric
+ * form, eq. (6)).  The mean is fluid_sum's: the same bits on any ranks x
+ * threads.  In the halo and domain modes every rank shifts the rows it
+ * computed (its own fluid rows, the boundary particles its rows see) by
+ * the same constant, before their p/rho^2 travel to the neighbours; in
+ * the gather mode and serially every row. */
+static void hold_mean_pressure(pcs_solver *s)
+{
+    sl_fluid *f = s->f;
+    sl_boundary *b = s->b;
+    const size_t n = pcs_fluid_total(s);
+    if (!n) return;
+    const double shift = s->prm.mean_pressure - fluid_sum(s, f->p, s->p_block) / (double)n;
+    const int own = s->split.halo;
+    const size_t i0 = own ? s->split.row[s->split.rank] : 0;
+    const size_t i1 = own ? s->split.row[s->split.rank + 1] : f->n;
+    const uint32_t *set = own ? s->split.bset : s->active;
+    const size_t nb = !s->prm.method->wall_density ? 0 /* eq. (13) */
+        : own                                      ? s->split.nbset
+                                                   : s->nactive;
+#pragma omp parallel
+    {
+#pragma omp for schedule(static) nowait
+        for (size_t i = i0; i < i1; i++) {
+            f->p[i] += shift;
+            f->pt[i] = f->p[i] / (f->rho[i] * f->rho[i]);
+        }
+#pragma omp for schedule(static) nowait
+        for (size_t q = 0; q < nb; q++) {
+            const uint32_t i = set[q];
+            b->p[i] += shift;
+            b->pt[i] = b->p[i] / (b->rho[i] * b->rho[i]);
+        }
+    }
+}
+
+/* After a density pass: meanPressure's shift, and under -parallel what
+ * the pass computed made whole.  The gather mode shifts after the gather
+ * (every rank then holds every row); the halo and domain modes before the
+ * halo's p/rho^2 are sent. */
+static double after_density(pcs_solver *s, int wall, double emax)
+{
+    if (s->split.size > 1 && !s->split.halo) {
+        emax = gather_predicted(s, wall, emax);
+        if (s->prm.hold_mean) hold_mean_pressure(s);
+        return emax;
+    }
+    if (s->prm.hold_mean) hold_mean_pressure(s);
+    return s->split.size > 1 ? pcx_after_density(s, emax) : emax;
 }
 
 /* The three passes of method M, each with its own parallel loop so that
@@ -581,7 +668,7 @@ static void own_block_sums(pcs_solver *s, size_t b0, size_t b1, size_t g0, size_
             }                                                                                     \
             if (M##_wall_density) boundary_density(s, 1);                                         \
         }                                                                                         \
-        own_block_sums(s, b0, b1, g0, g1);                                                        \
+        own_block_sums(s, s->err, s->err_block, b0, b1, g0, g1);                                  \
         return emax;                                                                              \
     }                                                                                             \
     static double M##_predict(pcs_solver *s)                                                      \
@@ -617,9 +704,7 @@ static void own_block_sums(pcs_solver *s, size_t b0, size_t b1, size_t g0, size_
                 }                                                                                 \
                 if (M##_wall_density) boundary_density(s, -1);                                    \
             }                                                                                     \
-        if (s->split.size > 1)                                                                    \
-            emax = s->split.halo ? pcx_after_density(s, emax)                                     \
-                                 : gather_predicted(s, M##_wall_density, emax);                   \
+        emax = after_density(s, M##_wall_density, emax);                                          \
         double total = 0.0;                                                                       \
         for (size_t blk = 0; blk < nb; blk++) total += part[blk];                                 \
         s->err_sum = total;                                                                       \
@@ -755,6 +840,7 @@ void pcs_free(pcs_solver *s)
     sl_free_aligned(s->err);
     sl_free_aligned(s->err_block);
     sl_free_aligned(s->vol_block);
+    sl_free_aligned(s->p_block);
     sl_free_aligned(s->err_vol);
     sl_free_aligned(s->ap_best);
     sl_free_aligned(s->lcorr);
@@ -780,6 +866,10 @@ static void ensure_scratch(pcs_solver *s)
         s->block_cap = rows / SL_REDUCE_BLOCK + 1;
         sl_free_aligned(s->err_block);
         s->err_block = sl_alloc_aligned(s->block_cap * sizeof *s->err_block, "density error sums");
+        if (s->prm.hold_mean) {
+            sl_free_aligned(s->p_block);
+            s->p_block = sl_alloc_aligned(s->block_cap * sizeof *s->p_block, "pressure sums");
+        }
         if (!s->prm.method->wall_density) {
             sl_free_aligned(s->vol_block);
             s->vol_block =
@@ -877,11 +967,7 @@ static void compute_forces(pcs_solver *s)
         }
     }
     eff_view v = effect_view(s, s->t, s->dt, f->x, f->y, f->z);
-    if (s->split.halo) { /* a rank predicts and integrates its own rows only */
-        v.rows_only = 1;
-        v.row0 = s->split.row[s->split.rank];
-        v.row1 = s->split.row[s->split.rank + 1];
-    }
+    own_rows_only(s, &v);
     eff_run(s->eff, EFF_FORCES, &v);
 }
 
@@ -1077,38 +1163,6 @@ static void gradient_correction(pcs_solver *s)
     }
 }
 
-/* meanPressure: the pressures of fluid and active boundary particles
- * shifted by one constant so that the fluid's mean is mean_pressure (in a
- * box without a free surface the projection's operator has the constant
- * in its null space: each update's mean source would otherwise move the
- * level, and on a disordered packing a level is a force of the symmetric
- * form, eq. (6)).  The mean is sl_sum's: the same bits on any number of
- * threads.  Serial only (the case reader refuses -parallel). */
-static void hold_mean_pressure(pcs_solver *s)
-{
-    sl_fluid *f = s->f;
-    sl_boundary *b = s->b;
-    const size_t n = f->n;
-    if (!n) return;
-    const double shift = s->prm.mean_pressure - sl_sum(f->p, n) / (double)n;
-    const uint32_t *act = s->active;
-#pragma omp parallel
-    {
-#pragma omp for schedule(static) nowait
-        for (size_t i = 0; i < n; i++) {
-            f->p[i] += shift;
-            f->pt[i] = f->p[i] / (f->rho[i] * f->rho[i]);
-        }
-        const size_t nb = s->prm.method->wall_density ? s->nactive : 0; /* eq. (13) */
-#pragma omp for schedule(static) nowait
-        for (size_t q = 0; q < nb; q++) {
-            const uint32_t i = act[q];
-            b->p[i] += shift;
-            b->pt[i] = b->p[i] / (b->rho[i] * b->rho[i]);
-        }
-    }
-}
-
 /* The loop of Algorithm 2: predict, correct the pressure, until the
  * largest predicted compression is at most eta (after minIterations, at
  * most maxIterations). */
@@ -1125,8 +1179,7 @@ static void pressure_solve(pcs_solver *s, pcs_stats *st)
         PHASE(s, predict, predict_positions(s));         /* v*, x*; eq. (9)-(11) */
         halo_refresh(s, 0);                              /* images' x* */
         PHASE(s, density, emax = s->passes->predict(s)); /* rho*, eq. (13); p, eq. (3) */
-        if (s->prm.hold_mean) PHASE(s, density, hold_mean_pressure(s));
-        halo_refresh(s, 1); /* images' rho, p, p/rho^2 */
+        halo_refresh(s, 1);                              /* images' rho, p, p/rho^2 */
         if (k == 0) {
             st->err_max_before = emax / s->prm.rho0;
             st->err_avg_before = average_of(s, s->err_sum);
@@ -1187,6 +1240,7 @@ static void integrate(pcs_solver *s, pcs_stats *st)
 static void shift_positions(pcs_solver *s)
 {
     eff_view v = effect_view(s, s->t, s->dt, s->f->x, s->f->y, s->f->z);
+    own_rows_only(s, &v);
     eff_run(s->eff, EFF_SHIFT, &v);
 }
 

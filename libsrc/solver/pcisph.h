@@ -200,6 +200,7 @@ struct pcs_solver {
     size_t block_cap;  /* entries of err_block */
     double *err_vol;   /* methods without wall density: the same with the wall's share */
     double *vol_block; /* its sums by blocks of SL_REDUCE_BLOCK (the last prediction) */
+    double *p_block;   /* meanPressure: the pressure's sums by blocks (scratch) */
     size_t err_cap;
     double *ap_best; /* pressure force of the best iteration (3 x cap) */
     double *lcorr;   /* pressureSource divergence: the kernel gradient correction (9 x cap) */

@@ -1476,6 +1476,13 @@ static void chain_block_sums(pcs_solver *s, struct pcs_domain *d, const double *
     par_gather_rows(part, off); /* each block from the rank holding its last row */
 }
 
+void pcd_block_sums(pcs_solver *s, const double *rows, double *part)
+{
+    const double t0 = omp_get_wtime();
+    chain_block_sums(s, s->split.dd, rows, part);
+    s->time.comm += omp_get_wtime() - t0;
+}
+
 double pcd_after_density(pcs_solver *s, double emax)
 {
     struct pcs_domain *d = s->split.dd;

@@ -209,6 +209,14 @@ const sl_source *pcd_output_source(pcs_solver *s, int set, int ncomp, int c0, in
 size_t pcd_output_count(const pcs_solver *s, int set);
 void pcd_output_end(pcs_solver *s);
 
+/* The block sums part[0..nb) of a per-row array over every rank's own
+ * rows in the serial association, on every rank: part holds on entry
+ * this rank's whole blocks and the start of the block its rows end in
+ * (rows: the solver's row array, own rows from d->lo); the block its rows
+ * begin in goes on from the lower ranks' running sum (collective;
+ * pcx_block_sums). */
+void pcd_block_sums(pcs_solver *s, const double *rows, double *part);
+
 /* The methods without wall density, after the pressure solve: the block
  * sums of the measured compression (err_vol) of the last density pass in
  * s->vol_block, every block on every rank (made as the density error's:

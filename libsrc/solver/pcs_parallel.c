@@ -213,12 +213,14 @@ static size_t pieces(size_t lo, size_t hi, size_t n, double *out, const double *
     return k;
 }
 
-double pcx_after_density(pcs_solver *s, double emax)
+void pcx_block_sums(pcs_solver *s, const double *rows, double *part)
 {
-    if (s->split.domain) return pcd_after_density(s, emax);
+    if (s->split.domain) {
+        pcd_block_sums(s, rows, part);
+        return;
+    }
     pcs_split *sp = &s->split;
     struct pcs_halo_x *h = sp->hx;
-    const double t0 = omp_get_wtime();
     const int p = sp->size, me = sp->rank;
     const size_t n = s->f->n, B = SL_REDUCE_BLOCK;
     size_t total = 0;
@@ -229,11 +231,10 @@ double pcx_after_density(pcs_solver *s, double emax)
     }
     h->pbuf = grow(h->pbuf, &h->pbuf_cap, (size_t)h->pcnt[me] + 1, sizeof *h->pbuf, "block sums");
     h->pall = grow(h->pall, &h->pall_cap, total + 1, sizeof *h->pall, "block sums");
-    pieces(sp->row[me], sp->row[me + 1], n, h->pbuf, s->err, s->err_block);
+    pieces(sp->row[me], sp->row[me + 1], n, h->pbuf, rows, part);
     par_allgatherv(h->pbuf, h->pcnt[me], h->pall, h->pcnt, h->pdis);
     /* every block's sum: whole ones as sent, shared ones summed from 0 in
      * row order across the ranks that share them (the serial order) */
-    double *part = s->err_block;
     size_t k = 0, run_blk = (size_t)-1;
     double run = 0.0;
     for (int r = 0; r < p; r++) {
@@ -257,6 +258,15 @@ double pcx_after_density(pcs_solver *s, double emax)
             part[blk] = run;
         }
     }
+}
+
+double pcx_after_density(pcs_solver *s, double emax)
+{
+    if (s->split.domain) return pcd_after_density(s, emax);
+    pcs_split *sp = &s->split;
+    struct pcs_halo_x *h = sp->hx;
+    const double t0 = omp_get_wtime();
+    pcx_block_sums(s, s->err, s->err_block);
     /* the halo's p/rho^2, which the pressure force reads, and its density,
      * which the next density pass's EFF_DENSITY effects read */
     sl_fluid *f = s->f;

@@ -45,6 +45,12 @@ int pcx_usable(const pcs_solver *s);
 void pcx_build(pcs_solver *s);
 /* After the prediction of the own rows: the halo's x*. */
 void pcx_exchange_predicted(pcs_solver *s);
+/* The block sums part[0..nb) of a per-row array over every rank's rows,
+ * in the serial association (SL_REDUCE_BLOCK rows a block, each summed
+ * from 0 one row at a time), on every rank; on entry part holds this
+ * rank's own blocks' sums as the density pass makes them (rows holds its
+ * own rows).  Collective; in the domain mode pcd_block_sums. */
+void pcx_block_sums(pcs_solver *s, const double *rows, double *part);
 /* After the density pass of the own rows: the block sums of every rank,
  * the halo's p/rho^2; returns the largest compression of all. */
 double pcx_after_density(pcs_solver *s, double emax);

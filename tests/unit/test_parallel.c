@@ -10,6 +10,8 @@
  * ways, and its first steps leave ranks
  * without fluid rows; a periodic channel on 3 ranks gives the serial
  * files (the domain mode: test_periodic); 2 ranks x 2 threads the same;
+ * the Taylor-Green vortex with particleShifting and meanPressure the same
+ * on 2-3 ranks of every mode and from restart files;
  * the halo mode and the gather mode both (pcs_parallel.h).  Without MPI in the build (make
  * MPI=no) or without mpirun, every test is reported skipped. */
 #include <setjmp.h>
@@ -825,6 +827,73 @@ static void test_relaxed_packing(void **state)
     same_output("parRelaxChannelSerial", "parRelaxChannel2");
 }
 
+/* The Taylor-Green vortex of cases/verification/taylorGreen as measured
+ * (normalized laminar viscosity, particleShifting with its velocity
+ * correction, pressureSource divergence with meanPressure 0), coarsened
+ * to r0 0.004 m (6,250 particles: two blocks of the sums' association, so
+ * the ranks' rows cut a block) for 5 steps: the mean pressure summed in
+ * the serial order across the ranks and every rank's shift of its own
+ * rows give the serial files on 2 and 3 ranks of the domain mode, 2 of
+ * the halo mode and 3 of the gather mode, and restart files of 2 ranks
+ * continued on 3 give them too; the mean is held (the files are not the
+ * clamped solve's). */
+static const char *tg_mean =
+    "sed -i 's/^endTime .*/endTime 0.002;/; s/^writeInterval .*/writeInterval 0.001;/; "
+    "s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict && "
+    "sed -i 's/^deltaT .*/deltaT 0.0004;/' system/timeStepDict && "
+    "sed -i 's/^particleSpacing .*/particleSpacing 0.004;/; s/normalized off;/normalized on;/; "
+    "s/gradientCorrection on; }/gradientCorrection on; meanPressure 0; }/' "
+    "constant/fluidProperties && grep -q 'meanPressure 0' constant/fluidProperties";
+
+static void test_mean_pressure_and_shifting(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    const char *src = "cases/verification/taylorGreen/baseShifting";
+    assert_int_equal(run_np(src, "parTgSerial", tg_mean, 0), 0);
+    assert_int_equal(run_np(src, "parTg2", tg_mean, 2), 0);
+    same_output("parTgSerial", "parTg2");
+    assert_int_equal(system("grep -q 'domain mode' tests/output/parTg2/log.pcisph"), 0);
+    assert_int_equal(run_np(src, "parTg3", tg_mean, 3), 0);
+    same_output("parTgSerial", "parTg3");
+    setenv("SLUICE_PARALLEL_EXCHANGE", "halo", 1);
+    int rc = run_np(src, "parTgHalo2", tg_mean, 2);
+    setenv("SLUICE_PARALLEL_EXCHANGE", "gather", 1);
+    rc |= run_np(src, "parTgGather3", tg_mean, 3);
+    unsetenv("SLUICE_PARALLEL_EXCHANGE");
+    assert_int_equal(rc, 0);
+    same_output("parTgSerial", "parTgHalo2");
+    same_output("parTgSerial", "parTgGather3");
+    assert_int_equal(system("grep -q 'halo mode' tests/output/parTgHalo2/log.pcisph && "
+                            "grep -q 'gather mode' tests/output/parTgGather3/log.pcisph"),
+                     0);
+    /* restart files of 2 ranks at 0.001 s continued on 3 */
+    char first[2048], cmd[2048];
+    snprintf(first, sizeof first, "%s && sed -i 's/^endTime .*/endTime 0.001;/' system/controlDict",
+             tg_mean);
+    assert_int_equal(run_np(src, "parTgRestart", first, 2), 0);
+    snprintf(cmd, sizeof cmd,
+             "cd tests/output/parTgRestart && sed -i 's/^endTime .*/endTime 0.002;/; "
+             "s/^startFrom .*/startFrom latestTime;/' system/controlDict && " MPIRUN
+             "-np 3 %s/pcisph -case . -quiet -parallel > log.restart 2>&1 && "
+             "grep -q 'Restarting from' log.restart && cd .. && "
+             "cmp parTgSerial/0.002/fluid.vtu parTgRestart/0.002/fluid.vtu",
+             bin_dir());
+    assert_int_equal(system(cmd), 0);
+    /* the clamped solve writes other files: the held mean is in use */
+    assert_int_equal(run_np(src, "parTgClamped",
+                            "sed -i 's/^endTime .*/endTime 0.002;/; "
+                            "s/^writeInterval .*/writeInterval 0.001;/' system/controlDict && "
+                            "sed -i 's/^deltaT .*/deltaT 0.0004;/' system/timeStepDict && "
+                            "sed -i 's/^particleSpacing .*/particleSpacing 0.004;/; "
+                            "s/normalized off;/normalized on;/' constant/fluidProperties",
+                            0),
+                     0);
+    assert_int_not_equal(system("cmp -s tests/output/parTgSerial/0.002/fluid.vtu "
+                                "tests/output/parTgClamped/0.002/fluid.vtu"),
+                         0);
+}
+
 /* The grid's block units (SLUICE_GRID_UNIT=block: blocks of 4x4x4 cells
  * along the generalised Hilbert curve, neighbours.h; ranks own runs of
  * blocks, the halo is the cells within one cell of the own ones): the
@@ -993,6 +1062,7 @@ int main(void)
         cmocka_unit_test(test_restart_damaged_parallel),
         cmocka_unit_test(test_periodic),
         cmocka_unit_test(test_relaxed_packing),
+        cmocka_unit_test(test_mean_pressure_and_shifting),
         cmocka_unit_test(test_block_units),
         cmocka_unit_test(test_mpirun_without_parallel),
         cmocka_unit_test(test_decompose_case),
