@@ -835,8 +835,9 @@ static void test_relaxed_packing(void **state)
  * the serial order across the ranks and every rank's shift of its own
  * rows give the serial files on 2 and 3 ranks of the domain mode, 2 of
  * the halo mode and 3 of the gather mode, and restart files of 2 ranks
- * continued on 3 give them too; the mean is held (the files are not the
- * clamped solve's). */
+ * continued on 3 give them too; so do 3 ranks of the domain mode and 2 of
+ * the halo and gather modes with a post of boundary particles through the
+ * box; the mean is held (the files are not the clamped solve's). */
 static const char *tg_mean =
     "sed -i 's/^endTime .*/endTime 0.002;/; s/^writeInterval .*/writeInterval 0.001;/; "
     "s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict && "
@@ -880,6 +881,25 @@ static void test_mean_pressure_and_shifting(void **state)
              "cmp parTgSerial/0.002/fluid.vtu parTgRestart/0.002/fluid.vtu",
              bin_dir());
     assert_int_equal(system(cmd), 0);
+    /* a post through the box: the walls' pressures (eq. 13) shifted by
+     * each rank for the boundary particles its rows see */
+    char post[2048];
+    snprintf(post, sizeof post,
+             "%s && sed -i 's/^    box { type container.*/&\\n    post { type box; min (0.04 "
+             "0.04 0); max (0.06 0.06 0.04); }/' constant/boundaryProperties && grep -q post "
+             "constant/boundaryProperties",
+             tg_mean);
+    assert_int_equal(run_np(src, "parTgPostSerial", post, 0), 0);
+    assert_int_equal(run_np(src, "parTgPost3", post, 3), 0);
+    same_output("parTgPostSerial", "parTgPost3");
+    setenv("SLUICE_PARALLEL_EXCHANGE", "halo", 1);
+    rc = run_np(src, "parTgPostHalo2", post, 2);
+    setenv("SLUICE_PARALLEL_EXCHANGE", "gather", 1);
+    rc |= run_np(src, "parTgPostGather2", post, 2);
+    unsetenv("SLUICE_PARALLEL_EXCHANGE");
+    assert_int_equal(rc, 0);
+    same_output("parTgPostSerial", "parTgPostHalo2");
+    same_output("parTgPostSerial", "parTgPostGather2");
     /* the clamped solve writes other files: the held mean is in use */
     assert_int_equal(run_np(src, "parTgClamped",
                             "sed -i 's/^endTime .*/endTime 0.002;/; "
