@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "core/sl_mem.h"
 #include "kernel/sph_sums.h"
@@ -33,12 +34,171 @@ static double second_moment(const krn_kernel *k, double vf, double irho0, const 
     return -(vf * sf + irho0 * sb) / 3.0;
 }
 
+/* normalized tensor: the fourth moment of particle i's viscous weights,
+ * Q_abcd = sum_j w_ij r_a r_b r_c r_d / |r|^2 (w_ij = -V_j gradf |r|^2 /
+ * (|r|^2 + eps), fluid and boundary neighbours in their lists' order),
+ * totally symmetric: its 15 components q[e], e the monomial x^nx y^ny
+ * z^(4-nx-ny) in the order of Q4_INDEX. */
+static const unsigned char q4_index[5][5] = {
+    {0, 1, 2, 3, 4}, {5, 6, 7, 8, 0}, {9, 10, 11, 0, 0}, {12, 13, 0, 0, 0}, {14, 0, 0, 0, 0}};
+
+static inline void q4_add(double q[15], double w, double dx, double dy, double dz)
+{
+    const double c = w / (dx * dx + dy * dy + dz * dz);
+    const double x2 = dx * dx, y2 = dy * dy, z2 = dz * dz;
+    const double cx = c * dx, cx2 = c * x2, cx3 = cx2 * dx, cy = c * dy, cy2 = c * y2;
+    q[0] += c * z2 * z2;    /* z^4 */
+    q[1] += cy * z2 * dz;   /* y z^3 */
+    q[2] += cy2 * z2;       /* y^2 z^2 */
+    q[3] += cy2 * dy * dz;  /* y^3 z */
+    q[4] += cy2 * y2;       /* y^4 */
+    q[5] += cx * z2 * dz;   /* x z^3 */
+    q[6] += cx * dy * z2;   /* x y z^2 */
+    q[7] += cx * y2 * dz;   /* x y^2 z */
+    q[8] += cx * y2 * dy;   /* x y^3 */
+    q[9] += cx2 * z2;       /* x^2 z^2 */
+    q[10] += cx2 * dy * dz; /* x^2 y z */
+    q[11] += cx2 * y2;      /* x^2 y^2 */
+    q[12] += cx3 * dz;      /* x^3 z */
+    q[13] += cx3 * dy;      /* x^3 y */
+    q[14] += cx3 * dx;      /* x^4 */
+}
+
+static inline double q4_at(const double q[15], int a, int b, int c, int d)
+{
+    int n[3] = {0, 0, 0};
+    n[a]++, n[b]++, n[c]++, n[d]++;
+    return q[q4_index[n[0]][n[1]]];
+}
+
+/* The symmetric A with sum_j w_ij (r^T A r / |r|^2) r r^T = I, i.e.
+ * Q : A = I (six equations, Gaussian elimination with partial pivoting),
+ * into A[9]; 0 when the system is singular or A is not positive definite
+ * (a pair weight could turn negative): the caller falls back to 1 / tau. */
+static int tensor_normalization(const double q[15], double A[9])
+{
+    static const int pa[6] = {0, 1, 2, 0, 0, 1}, pb[6] = {0, 1, 2, 1, 2, 2};
+    double K[6][7];
+    double big = 0.0;
+    for (int r = 0; r < 6; r++) {
+        for (int c = 0; c < 6; c++) {
+            K[r][c] = q4_at(q, pa[r], pb[r], pa[c], pb[c]) * (c < 3 ? 1.0 : 2.0);
+            big = fabs(K[r][c]) > big ? fabs(K[r][c]) : big;
+        }
+        K[r][6] = r < 3 ? 1.0 : 0.0;
+    }
+    for (int c = 0; c < 6; c++) {
+        int piv = c;
+        for (int r = c + 1; r < 6; r++)
+            if (fabs(K[r][c]) > fabs(K[piv][c])) piv = r;
+        if (!(fabs(K[piv][c]) > 1e-10 * big)) return 0;
+        if (piv != c)
+            for (int e = 0; e < 7; e++) {
+                const double t = K[c][e];
+                K[c][e] = K[piv][e], K[piv][e] = t;
+            }
+        for (int r = c + 1; r < 6; r++) {
+            const double m = K[r][c] / K[c][c];
+            for (int e = c; e < 7; e++) K[r][e] -= m * K[c][e];
+        }
+    }
+    double x[6];
+    for (int r = 5; r >= 0; r--) {
+        double t = K[r][6];
+        for (int e = r + 1; e < 6; e++) t -= K[r][e] * x[e];
+        x[r] = t / K[r][r];
+    }
+    A[0] = x[0], A[4] = x[1], A[8] = x[2];
+    A[1] = A[3] = x[3], A[2] = A[6] = x[4], A[5] = A[7] = x[5];
+    const double m2 = A[0] * A[4] - A[1] * A[1];
+    const double det = A[0] * (A[4] * A[8] - A[5] * A[5]) - A[1] * (A[1] * A[8] - A[5] * A[2]) +
+        A[2] * (A[1] * A[5] - A[4] * A[2]);
+    return A[0] > 0.0 && m2 > 0.0 && det > 0.0;
+}
+
+/* a += scale sum_j m_j gradf r^2 / (r^2 + eps) (r^T A r / r^2) (v_i - v_j):
+ * the laminar sum with each pair's weight corrected by A (normalized
+ * tensor).  mj == NULL: every m_j = 1. */
+static void sum_tensor(const krn_kernel *k, const uint32_t *idx, uint32_t q0, uint32_t q1,
+                       const double p[3], const double v[3], const double *x, const double *y,
+                       const double *z, const double *vx, const double *vy, const double *vz,
+                       const double *mj, double eps_h2, double scale, const double A[9],
+                       double a[3])
+{
+    double s[3] = {0.0, 0.0, 0.0};
+    for (uint32_t q = q0; q < q1; q++) {
+        const uint32_t j = idx[q];
+        const double r[3] = {p[0] - x[j], p[1] - y[j], p[2] - z[j]};
+        const double r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+        double rar = 0.0;
+        for (int e = 0; e < 3; e++)
+            rar += r[e] * (A[3 * e] * r[0] + A[3 * e + 1] * r[1] + A[3 * e + 2] * r[2]);
+        const double c = (mj ? mj[j] : 1.0) * krn_gradf(k, sqrt(r2)) * rar / (r2 + eps_h2);
+        s[0] += c * (v[0] - vx[j]);
+        s[1] += c * (v[1] - vy[j]);
+        s[2] += c * (v[2] - vz[j]);
+    }
+    for (int e = 0; e < 3; e++) a[e] += scale * s[e];
+}
+
+/* Particle i's acceleration with normalized tensor: Q from its fluid and
+ * boundary neighbours, A from Q : A = I, the sums with the corrected
+ * weights; where A is not found (or the sum is deficient, tau <= 1/2) the
+ * scalar normalization's a / tau, or the plain sum. */
+static void tensor_one(const krn_kernel *k, double mass, double rho0, double c, double cb,
+                       const sl_fluid *f, const sl_boundary *b, const nbr_list *ff,
+                       const nbr_list *fb, size_t i, double eps_h2, double a[3])
+{
+    const double pi[3] = {f->x[i], f->y[i], f->z[i]}, vi[3] = {f->vx[i], f->vy[i], f->vz[i]};
+    const double vf = mass / rho0, irho0 = 1.0 / rho0;
+    double q[15] = {0};
+    for (uint32_t e = ff->start[i]; e < ff->start[i + 1]; e++) {
+        const uint32_t j = ff->idx[e];
+        const double dx = pi[0] - f->x[j], dy = pi[1] - f->y[j], dz = pi[2] - f->z[j];
+        const double r2 = dx * dx + dy * dy + dz * dz;
+        q4_add(q, -vf * krn_gradf(k, sqrt(r2)) * r2 / (r2 + eps_h2), dx, dy, dz);
+    }
+    for (uint32_t e = fb->start[i]; e < fb->start[i + 1]; e++) {
+        const uint32_t j = fb->idx[e];
+        const double dx = pi[0] - b->x[j], dy = pi[1] - b->y[j], dz = pi[2] - b->z[j];
+        const double r2 = dx * dx + dy * dy + dz * dz;
+        q4_add(q, -b->mass[j] * irho0 * krn_gradf(k, sqrt(r2)) * r2 / (r2 + eps_h2), dx, dy, dz);
+    }
+    /* tau = tr(M) / 3, M_ab = sum_c Q_abcc */
+    double tau = 0.0;
+    for (int d = 0; d < 3; d++)
+        for (int e = 0; e < 3; e++) tau += q4_at(q, d, d, e, e);
+    tau /= 3.0;
+    double A[9];
+    if (!(tau > 0.5) || !tensor_normalization(q, A)) {
+        const double g = tau > 0.5 ? 1.0 / tau : 1.0;
+        A[0] = A[4] = A[8] = g;
+        A[1] = A[2] = A[3] = A[5] = A[6] = A[7] = 0.0;
+    }
+    sum_tensor(k, ff->idx, ff->start[i], ff->start[i + 1], pi, vi, f->x, f->y, f->z, f->vx, f->vy,
+               f->vz, NULL, eps_h2, mass * c, A, a);
+    if (cb > 0.0)
+        sum_tensor(k, fb->idx, fb->start[i], fb->start[i + 1], pi, vi, b->x, b->y, b->z, b->vx,
+                   b->vy, b->vz, b->mass, eps_h2, cb, A, a);
+}
+
 void lvisc_apply(const lvisc_params *p, const krn_kernel *k, double mass, double rho0, sl_fluid *f,
                  const sl_boundary *b, const nbr_list *ff, const nbr_list *fb, size_t i0, size_t i1)
 {
     const double c = 2.0 * p->nu / rho0, cb = 2.0 * p->nu_boundary / rho0;
     const double eps_h2 = 0.01 * k->h * k->h;
     const krn_kernel kk = *k;
+    if (p->normalized == LVISC_TENSOR) {
+#pragma omp parallel for schedule(dynamic, 512)
+        for (size_t i = i0; i < i1; i++) {
+            double a[3] = {0.0, 0.0, 0.0};
+            tensor_one(&kk, mass, rho0, c, cb, f, b, ff, fb, i, eps_h2, a);
+            f->ax[i] += a[0];
+            f->ay[i] += a[1];
+            f->az[i] += a[2];
+        }
+        return;
+    }
 #pragma omp parallel for schedule(dynamic, 512)
     for (size_t i = i0; i < i1; i++) {
         const double pi[3] = {f->x[i], f->y[i], f->z[i]}, vi[3] = {f->vx[i], f->vy[i], f->vz[i]};
@@ -68,14 +228,21 @@ static void *read(const dict *d, const eff_setup *su)
     const dict *v = dict_sub(d, "laminarViscosity");
     if (!v)
         dict_fatal(d, "laminarViscosity",
-                   "must be a dictionary { nu ..; [boundaryNu ..;] [normalized on;] }");
+                   "must be a dictionary { nu ..; [boundaryNu ..;] [normalized on | tensor;] }");
     dict_warn_unknown(v, keys);
     lvisc_params *p = sl_malloc(sizeof *p, "laminarViscosity");
     dict_need(dict_get_scalar(v, "nu", &p->nu, &err), &err);
     if (!(p->nu >= 0.0)) dict_fatal(v, "nu", "must be zero or positive");
     dict_need(dict_get_scalar_or(v, "boundaryNu", p->nu, &p->nu_boundary, &err), &err);
     if (!(p->nu_boundary >= 0.0)) dict_fatal(v, "boundaryNu", "must be zero or positive");
-    dict_need(dict_get_bool_or(v, "normalized", 0, &p->normalized, &err), &err);
+    const char *w;
+    dict_need(dict_get_word_or(v, "normalized", "off", &w, &err), &err);
+    if (!strcmp(w, "tensor")) p->normalized = LVISC_TENSOR;
+    else if (dict_get_bool_or(v, "normalized", 0, &p->normalized, &err))
+        dict_fatal(v, "normalized",
+                   "must be off, on (the sum over the scalar second moment) or tensor (each "
+                   "pair's weight corrected by the fourth moment), not '%s'",
+                   w);
     return p;
 }
 

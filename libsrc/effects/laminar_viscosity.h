@@ -16,15 +16,28 @@
  * velocities (no-slip walls), with boundaryNu (default nu; 0: free slip).
  *
  * constant/fluidProperties:
- *   laminarViscosity { nu n; [boundaryNu nb;] [normalized on;] }
+ *   laminarViscosity { nu n; [boundaryNu nb;] [normalized on | tensor;] }
  *
- * normalized (default off) divides particle i's sum by the second moment
- * of its weights, tau_i = -1/3 sum_j V_j gradf r^4 / (r^2 + 0.01 h^2)
- * (1 for the continuous kernel without the 0.01 h^2; 0.9915 on the cubic
- * lattice at h = 2 r0, 0.96-0.97 on the disordered packing of a strained
- * flow), so that the sum is nu Laplacian v on any packing to leading
- * order; a_i / tau_i, not pairwise symmetric (momentum not conserved to
- * the bit).
+ * normalized (default off): on divides particle i's sum by the second
+ * moment of its weights, tau_i = -1/3 sum_j V_j gradf r^4 / (r^2 + 0.01
+ * h^2) (1 for the continuous kernel without the 0.01 h^2; 0.9915 on the
+ * cubic lattice at h = 2 r0, 0.96-0.97 on the disordered packing of a
+ * strained flow), so that the sum is nu Laplacian v on any isotropic
+ * packing to leading order; a_i / tau_i.  A strained packing is not
+ * isotropic: the sum of a smooth field is 2 nu (D . grad v + 1/2 M : H), M
+ * = sum_j w_ij r r^T (w_ij = -V_j gradf r^2 / (r^2 + 0.01 h^2)), H the
+ * Hessian, and tau_i = tr(M) / 3 cannot make M : H the Laplacian when M
+ * is anisotropic (the Taylor-Green vortex's packing: 0.96-0.97 in its
+ * plane, 0.987 across it).  tensor corrects each pair's weight by r^T A_i
+ * r / r^2, A_i symmetric with sum_j w_ij (r^T A_i r / r^2) r r^T = I
+ * (six equations in the fourth moment Q_abcd = sum_j w_ij r_a r_b r_c
+ * r_d / r^2, solved per particle per step), so that M : H is tr(H) on any
+ * packing: exact for a quadratic field where grad v = 0 (the first moment
+ * D is left), A_i = I / tau_i on the cubic lattice; where A_i is not
+ * positive definite or the system singular, tau_i as with on.  Neither is
+ * pairwise symmetric (momentum not conserved to the bit); tensor costs
+ * a second pass over the neighbours and a 6x6 solve per particle
+ * (doc/verification.md: its time).
  *
  * Which to use when (doc/verification.md): laminarViscosity where the
  * viscous answer matters (shear flows, boundary layers, decay rates);
@@ -35,10 +48,13 @@
 
 #include "effects/effects.h"
 
+/* normalized tensor: each pair's weight corrected by the fourth moment. */
+#define LVISC_TENSOR 2
+
 typedef struct lvisc_params {
     double nu;          /* m^2/s, fluid-fluid */
     double nu_boundary; /* m^2/s, fluid-boundary */
-    int normalized;     /* a_i over the packing's second moment tau_i */
+    int normalized;     /* 0; 1: a_i over the packing's second moment tau_i; LVISC_TENSOR */
 } lvisc_params;
 
 extern const eff_type eff_laminar_viscosity;

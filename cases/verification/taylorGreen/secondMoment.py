@@ -13,8 +13,12 @@ of a smooth field is nu sum_i tr(grad v T_i grad v^T), so the factor
 
 is the ratio of its energy decay to the viscous one at long waves (1 for
 the continuous kernel without the 0.01 h^2; 0.9915 on the cubic lattice).
-Also the mean T_xx, the rms of grad C r0 (the shift's disorder) and the
-nearest neighbour's distance over r0.
+The same with each particle's T_i divided by its tau_i = tr(T_i) / 3 (the
+divisor of `laminarViscosity { normalized on; }`): its factor on the
+packing (1 on any isotropic packing at long waves; below 1 where the
+packing's in-plane moment is below its mean, which the scalar divisor
+cannot see).  Also the mean T_xx, T_yy, T_zz, the rms of grad C r0 (the
+shift's disorder) and the nearest neighbour's distance over r0.
 
   secondMoment.py <case>/<time>/fluid.vtu <r0>   (an ascii vtu: writeFormat ascii)
   secondMoment.py -lattice                       (the cubic lattice at k r0 of the sweeps)
@@ -74,7 +78,7 @@ def packing(path, r0):
     for i, p in enumerate(pts):
         cells.setdefault(cell(p), []).append(i)
     k = 2.0 * math.pi / BOX[0]
-    num = den = txx = gc2 = near_sum = 0.0
+    num = den = nnum = txx = tyy = tzz = gc2 = near_sum = 0.0
     near_min = 9.0
     for i, p in enumerate(pts):
         ci = cell(p)
@@ -102,17 +106,23 @@ def packing(path, r0):
         x, y = p[0], p[1]
         gu = (k * math.cos(k * x) * math.cos(k * y), -k * math.sin(k * x) * math.sin(k * y), 0.0)
         gv = (k * math.sin(k * x) * math.sin(k * y), -k * math.cos(k * x) * math.cos(k * y), 0.0)
+        tau = (t[0][0] + t[1][1] + t[2][2]) / 3.0  # laminarViscosity normalized's divisor
         for gg in (gu, gv):
-            num += sum(gg[a_] * t[a_][b_] * gg[b_] for a_ in range(3) for b_ in range(3))
+            q = sum(gg[a_] * t[a_][b_] * gg[b_] for a_ in range(3) for b_ in range(3))
+            num += q
+            nnum += q / tau if tau > 0.5 else q
             den += sum(c * c for c in gg)
         txx += t[0][0]
+        tyy += t[1][1]
+        tzz += t[2][2]
         gc2 += sum(c * c for c in gc)
         near_sum += dn
         near_min = min(near_min, dn)
     n = len(pts)
-    print("%s: dissipation factor %.4f, mean T_xx %.4f, rms |grad C| r0 %.4f, nearest / r0 "
-          "mean %.3f, least %.3f (%d particles)"
-          % (path, num / den, txx / n, math.sqrt(gc2 / n) * r0, near_sum / n, near_min, n))
+    print("%s: dissipation factor %.4f (normalized %.4f), mean T_xx %.4f T_yy %.4f T_zz %.4f, "
+          "rms |grad C| r0 %.4f, nearest / r0 mean %.3f, least %.3f (%d particles)"
+          % (path, num / den, nnum / den, txx / n, tyy / n, tzz / n, math.sqrt(gc2 / n) * r0,
+             near_sum / n, near_min, n))
 
 
 def ascii_arrays(path, *names):
