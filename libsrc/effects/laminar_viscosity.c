@@ -38,7 +38,7 @@ static double second_moment(const krn_kernel *k, double vf, double irho0, const 
  * Q_abcd = sum_j w_ij r_a r_b r_c r_d / |r|^2 (w_ij = -V_j gradf |r|^2 /
  * (|r|^2 + eps), fluid and boundary neighbours in their lists' order),
  * totally symmetric: its 15 components q[e], e the monomial x^nx y^ny
- * z^(4-nx-ny) in the order of Q4_INDEX. */
+ * z^(4-nx-ny) at q4_index[nx][ny]. */
 static const unsigned char q4_index[5][5] = {
     {0, 1, 2, 3, 4}, {5, 6, 7, 8, 0}, {9, 10, 11, 0, 0}, {12, 13, 0, 0, 0}, {14, 0, 0, 0, 0}};
 
