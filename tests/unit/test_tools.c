@@ -673,6 +673,40 @@ static void write_two_sessions(const char *dir)
     spit(path, text);
 }
 
+/* A point stopped by a signal (the solver's "Stopped by a signal" line
+ * before its "End:" line, its state written) is "stopped", not
+ * "finished": the next sweepCase resumes it with -resume from its last
+ * time instead of skipping it (or cloning it again, which would delete
+ * what it wrote), and keeps the stopped session's log as log.pcisph.1.
+ * The stop is made as the solver leaves it: eta_1's run cut back to its
+ * 0.05 s time directory, the line put before its End line. */
+static void test_sweep_resumes_a_stopped_point(void **state)
+{
+    (void)state;
+    write_sweep(OUT "/sweepStop", "");
+    assert_int_equal(tool("sweepCase", "-jobs 1 " OUT "/sweepStop/sweepDict", bin_dir()), 0);
+    assert_int_equal(run("cd " OUT "/sweepStop/cases/eta_1 && rm -r 0.1 && sed -i 's/^End:/"
+                         "Stopped by a signal at t = 0.05 (written to 0.05)\\n&/' log.pcisph && "
+                         "grep -q '^Stopped by a signal' log.pcisph"),
+                     0);
+    assert_int_equal(tool("sweepCase", "-collect " OUT "/sweepStop/sweepDict", bin_dir()), 0);
+    char *csv = slurp(OUT "/sweepStop/results.csv");
+    assert_non_null(strstr(csv, "eta_1,1,stopped,"));
+    assert_non_null(strstr(csv, "eta_0.1,0.1,finished,"));
+    free(csv);
+    assert_int_equal(tool("sweepCase", "-jobs 1 " OUT "/sweepStop/sweepDict", bin_dir()), 0);
+    assert_non_null(
+        strstr(output, "1 to run (1 finished already; 1 stopped by a signal, resumed)"));
+    assert_non_null(strstr(output, "eta_1: finished"));
+    assert_int_equal(run("cd " OUT "/sweepStop/cases/eta_1 && test -d 0.1 && grep -q '^Restarting "
+                         "from .*0.05' log.pcisph && grep -q '^Stopped by a signal' log.pcisph.1"),
+                     0);
+    assert_int_equal(tool("sweepCase", "-collect " OUT "/sweepStop/sweepDict", bin_dir()), 0);
+    csv = slurp(OUT "/sweepStop/results.csv");
+    assert_non_null(strstr(csv, "eta_1,1,finished,"));
+    free(csv);
+}
+
 /* Item 18: monitorCase, plotTimeStep and sweepCase read every session of
  * the record in time order, not only postProcessing/timeStep/0. */
 static void test_monitor_after_restart(void **state)
@@ -1008,6 +1042,7 @@ int main(void)
         cmocka_unit_test(test_sweep_misspelt_parameter),
         cmocka_unit_test(test_sweep_collect_fake_results),
         cmocka_unit_test(test_sweep_runs_the_solver),
+        cmocka_unit_test(test_sweep_resumes_a_stopped_point),
         cmocka_unit_test(test_plot_sweep_pareto),
         cmocka_unit_test(test_plot_sweep_where),
         cmocka_unit_test(test_plot_sweep_where_errors),

@@ -71,20 +71,26 @@ char *sweep_case_dir(const sweep *s, size_t point);
 
 /* ---- running -------------------------------------------------------------- */
 
-typedef enum { SWEEP_NOT_RUN, SWEEP_FAILED, SWEEP_FINISHED } sweep_status;
+/* SWEEP_STOPPED: stopped by a signal (INT, TERM), its state written: the
+ * next run of the sweep resumes it (-resume) instead of starting again. */
+typedef enum { SWEEP_NOT_RUN, SWEEP_FAILED, SWEEP_FINISHED, SWEEP_STOPPED } sweep_status;
 
-/* From the log: finished if it has the solver's "End:" line. */
+/* From the log: stopped if it has the solver's "Stopped by a signal"
+ * line, else finished if it has its "End:" line. */
 sweep_status sweep_case_status(const sweep *s, size_t point);
 /* Clone the base case into the point's folder (replacing it) and set the
  * point's values; exits on error. */
 void sweep_prepare(const sweep *s, size_t point);
 /* The solver (bin/<application> beside this program), allocated. */
 char *sweep_solver(const sweep *s);
-/* Print one shell command per unfinished point (preparing its case). */
+/* Print one shell command per unfinished point (preparing its case; a
+ * stopped point's command resumes it). */
 void sweep_print_jobs(const sweep *s, int threads, int force);
 /* Prepare and run the unfinished points, `jobs` at a time with `threads`
- * OpenMP threads each (0: leave OMP_NUM_THREADS alone).  Returns the
- * number of points that failed. */
+ * OpenMP threads each (0: leave OMP_NUM_THREADS alone); a stopped point is
+ * resumed where it stopped (its log kept as log.<application>.<n>), not
+ * cloned again (with force every point is).  Returns the number of points
+ * that failed. */
 int sweep_run(const sweep *s, int jobs, int threads, int force);
 
 /* ---- results --------------------------------------------------------------- */

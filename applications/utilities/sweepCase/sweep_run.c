@@ -2,7 +2,8 @@
  * sweep_run: one case per point -- cloned from the base case, its values
  * set in place with libsrc/dictedit -- and the solver run on them, a few at
  * a time, each writing <case>/log.<application>.  A point whose log holds
- * the solver's closing "End:" line is finished and is not run again.
+ * the solver's closing "End:" line is finished and is not run again; one
+ * whose log says it was stopped by a signal is resumed.
  */
 #include "sweep.h"
 
@@ -39,8 +40,9 @@ sweep_status sweep_case_status(const sweep *s, size_t point)
     FILE *f = fopen(log, "r");
     if (f) {
         st = SWEEP_FAILED;
-        while (st != SWEEP_FINISHED && getline(&line, &len, f) >= 0)
-            if (!strncmp(line, "End:", 4)) st = SWEEP_FINISHED;
+        while (st == SWEEP_FAILED && getline(&line, &len, f) >= 0)
+            if (!strncmp(line, "Stopped by a signal", 19)) st = SWEEP_STOPPED;
+            else if (!strncmp(line, "End:", 4)) st = SWEEP_FINISHED;
         fclose(f);
     }
     free(line);
@@ -101,21 +103,42 @@ static void sweep_shell_word(FILE *f, const char *s)
     fputc('\'', f);
 }
 
+/* A stopped point's log, before it is resumed: renamed log.<application>.<n>,
+ * n the first number not taken (nothing overwritten). */
+static void keep_log(const sweep *s, size_t point)
+{
+    char *dir = sweep_case_dir(s, point), *log = sweep_log_path(s, dir);
+    const size_t len = strlen(log) + 16;
+    char *kept = sl_malloc(len, "log name");
+    for (int n = 1;; n++) {
+        snprintf(kept, len, "%s.%d", log, n);
+        if (access(kept, F_OK) != 0) break;
+    }
+    if (rename(log, kept)) sl_fatal("%s: cannot rename it to %s: %s", log, kept, strerror(errno));
+    free(kept);
+    free(log);
+    free(dir);
+}
+
 void sweep_print_jobs(const sweep *s, int threads, int force)
 {
     char *solver = sweep_solver(s);
     for (size_t i = 0; i < s->npoint; i++) {
-        if (!force && sweep_case_status(s, i) == SWEEP_FINISHED) {
+        const sweep_status st = sweep_case_status(s, i);
+        if (!force && st == SWEEP_FINISHED) {
             fprintf(stderr, "%s: finished already\n", s->name[i]);
             continue;
         }
-        sweep_prepare(s, i);
+        const int resume = !force && st == SWEEP_STOPPED;
+        if (resume) keep_log(s, i);
+        else sweep_prepare(s, i);
         char *dir = sweep_case_dir(s, i), *abs = realpath(dir, NULL);
         char *log = sweep_log_path(s, abs);
         if (threads > 0) printf("OMP_NUM_THREADS=%d ", threads);
         sweep_shell_word(stdout, solver);
         fputs(" -case ", stdout);
         sweep_shell_word(stdout, abs);
+        if (resume) fputs(" -resume", stdout);
         fputs(" > ", stdout);
         sweep_shell_word(stdout, log);
         fputs(" 2>&1\n", stdout);
@@ -141,10 +164,10 @@ static double sweep_seconds_since(const struct timespec *t0)
     return (double)(t.tv_sec - t0->tv_sec) + 1e-9 * (double)(t.tv_nsec - t0->tv_nsec);
 }
 
-static pid_t sweep_launch(const sweep *s, const char *solver, size_t point, int threads)
+static pid_t sweep_launch(const sweep *s, const char *solver, size_t point, int threads, int resume)
 {
     char *dir = sweep_case_dir(s, point), *log = sweep_log_path(s, dir), n[32];
-    const char *argv[] = {solver, "-case", dir, NULL};
+    const char *argv[] = {solver, "-case", dir, resume ? "-resume" : NULL, NULL};
     sl_proc p = {.argv = argv, .log = log};
     sl_err err;
     if (threads > 0) {
@@ -180,10 +203,14 @@ static int sweep_report(const sweep *s, const sweep_job *j, int status, size_t d
     double secs = sweep_seconds_since(&j->start);
     char eta[128];
     sweep_eta(eta, sizeof eta, prog, done, n);
-    int ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 &&
-        sweep_case_status(s, j->point) == SWEEP_FINISHED;
+    const sweep_status st = sweep_case_status(s, j->point);
+    int ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 && st == SWEEP_FINISHED;
     if (ok) {
         printf("[%zu/%zu] %s: finished in %.1f s%s\n", done, n, s->name[j->point], secs, eta);
+    } else if (st == SWEEP_STOPPED) {
+        printf("[%zu/%zu] %s: stopped by a signal after %.1f s, its state written: the next "
+               "sweepCase resumes it%s\n",
+               done, n, s->name[j->point], secs, eta);
     } else {
         char *dir = sweep_case_dir(s, j->point), *log = sweep_log_path(s, dir);
         if (WIFSIGNALED(status))
@@ -202,17 +229,26 @@ static int sweep_report(const sweep *s, const sweep_job *j, int status, size_t d
 int sweep_run(const sweep *s, int jobs, int threads, int force)
 {
     size_t *todo = sl_malloc((s->npoint + 1) * sizeof *todo, "sweep points"), ntodo = 0;
+    int *resume = sl_calloc(s->npoint + 1, sizeof *resume, "sweep points");
     sweep_job *run = sl_calloc((size_t)jobs, sizeof *run, "sweep jobs");
     size_t next = 0, done = 0;
     int nrun = 0, failed = 0;
     char *solver = sweep_solver(s);
-    for (size_t i = 0; i < s->npoint; i++)
-        if (force || sweep_case_status(s, i) != SWEEP_FINISHED) todo[ntodo++] = i;
-    printf("Sweep %s: %zu points, %zu to run (%zu finished already), %d at a time", s->path,
-           s->npoint, ntodo, s->npoint - ntodo, jobs);
+    size_t nresume = 0;
+    for (size_t i = 0; i < s->npoint; i++) {
+        const sweep_status st = sweep_case_status(s, i);
+        if (force || st != SWEEP_FINISHED) todo[ntodo++] = i;
+        if (!force && st == SWEEP_STOPPED) resume[i] = 1, nresume++;
+    }
+    printf("Sweep %s: %zu points, %zu to run (%zu finished already", s->path, s->npoint, ntodo,
+           s->npoint - ntodo);
+    if (nresume) printf("; %zu stopped by a signal, resumed", nresume);
+    printf("), %d at a time", jobs);
     if (threads > 0) printf(", %d threads each", threads);
     printf("\n");
-    for (size_t i = 0; i < ntodo; i++) sweep_prepare(s, todo[i]); /* errors before any run */
+    for (size_t i = 0; i < ntodo; i++) /* errors before any run */
+        if (resume[todo[i]]) keep_log(s, todo[i]);
+        else sweep_prepare(s, todo[i]);
     sl_progress prog;
     sl_progress_start(&prog, stdout, 0, (double)ntodo, 10.0);
     while (next < ntodo || nrun > 0) {
@@ -220,7 +256,7 @@ int sweep_run(const sweep *s, int jobs, int threads, int force)
             sweep_job *j = &run[nrun++];
             j->point = todo[next++];
             clock_gettime(CLOCK_MONOTONIC, &j->start);
-            j->pid = sweep_launch(s, solver, j->point, threads);
+            j->pid = sweep_launch(s, solver, j->point, threads, resume[j->point]);
         }
         int status, k;
         pid_t pid = waitpid(-1, &status, 0);
@@ -235,6 +271,7 @@ int sweep_run(const sweep *s, int jobs, int threads, int force)
     }
     free(solver);
     free(run);
+    free(resume);
     free(todo);
     return failed;
 }

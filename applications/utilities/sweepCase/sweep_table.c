@@ -32,7 +32,10 @@ typedef struct sweep_row {
 
 static const char *status_name(sweep_status st)
 {
-    return st == SWEEP_FINISHED ? "finished" : st == SWEEP_FAILED ? "failed" : "not run";
+    return st == SWEEP_FINISHED ? "finished"
+        : st == SWEEP_FAILED    ? "failed"
+        : st == SWEEP_STOPPED   ? "stopped"
+                                : "not run";
 }
 
 /* Sum, mean or max of one column (NaN if the record lacks it). */
