@@ -679,7 +679,9 @@ static void write_two_sessions(const char *dir)
  * time instead of skipping it (or cloning it again, which would delete
  * what it wrote), and keeps the stopped session's log as log.pcisph.1.
  * The stop is made as the solver leaves it: eta_1's run cut back to its
- * 0.05 s time directory, the line put before its End line. */
+ * 0.05 s time directory, the line put before its End line.  A run that
+ * died part-way (its log without End:) is run again from a fresh clone,
+ * its folder kept as <case>.failed.1, not deleted. */
 static void test_sweep_resumes_a_stopped_point(void **state)
 {
     (void)state;
@@ -705,6 +707,14 @@ static void test_sweep_resumes_a_stopped_point(void **state)
     csv = slurp(OUT "/sweepStop/results.csv");
     assert_non_null(strstr(csv, "eta_1,1,finished,"));
     free(csv);
+    /* a run that died part-way (no End line) is run again, its folder kept */
+    assert_int_equal(run("sed -i '/^End:/d' " OUT "/sweepStop/cases/eta_0.1/log.pcisph"), 0);
+    assert_int_equal(tool("sweepCase", "-jobs 1 " OUT "/sweepStop/sweepDict", bin_dir()), 0);
+    assert_non_null(strstr(output, "eta_0.1: the failed run kept as "));
+    assert_int_equal(run("test -d " OUT
+                         "/sweepStop/cases/eta_0.1.failed.1/0.1 && grep -q '^End:' " OUT
+                         "/sweepStop/cases/eta_0.1/log.pcisph"),
+                     0);
 }
 
 /* Item 18: monitorCase, plotTimeStep and sweepCase read every session of

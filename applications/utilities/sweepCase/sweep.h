@@ -78,8 +78,9 @@ typedef enum { SWEEP_NOT_RUN, SWEEP_FAILED, SWEEP_FINISHED, SWEEP_STOPPED } swee
 /* From the log: stopped if it has the solver's "Stopped by a signal"
  * line, else finished if it has its "End:" line. */
 sweep_status sweep_case_status(const sweep *s, size_t point);
-/* Clone the base case into the point's folder (replacing it) and set the
- * point's values; exits on error. */
+/* Clone the base case into the point's folder (replacing it; a failed
+ * run's folder is kept as <case>.failed.<n>) and set the point's values;
+ * exits on error. */
 void sweep_prepare(const sweep *s, size_t point);
 /* The solver (bin/<application> beside this program), allocated. */
 char *sweep_solver(const sweep *s);

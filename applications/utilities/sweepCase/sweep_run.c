@@ -53,10 +53,28 @@ sweep_status sweep_case_status(const sweep *s, size_t point)
 
 /* ---- preparing a case ------------------------------------------------------------ */
 
+/* A failed point's folder (a log without the solver's End: line: it died,
+ * or was killed, part-way), before the point is run again: renamed
+ * <case>.failed.<n>, n the first number not taken, so that what it wrote
+ * is not deleted. */
+static void keep_failed(const sweep *s, size_t point, const char *dir)
+{
+    const size_t len = strlen(dir) + 24;
+    char *kept = sl_malloc(len, "case name");
+    for (int n = 1;; n++) {
+        snprintf(kept, len, "%s.failed.%d", dir, n);
+        if (access(kept, F_OK) != 0) break;
+    }
+    if (rename(dir, kept)) sl_fatal("%s: cannot rename it to %s: %s", dir, kept, strerror(errno));
+    fprintf(stderr, "%s: the failed run kept as %s\n", s->name[point], kept);
+    free(kept);
+}
+
 void sweep_prepare(const sweep *s, size_t point)
 {
     char *dir = sweep_case_dir(s, point);
     sl_err err;
+    if (sweep_case_status(s, point) == SWEEP_FAILED) keep_failed(s, point, dir);
     if (cf_remove_tree(dir, &err) || tdir_mkdirs(s->cases, &err) ||
         cf_clone_case(s->base, dir, NULL, &err))
         sl_fatal("%s", err.msg);
