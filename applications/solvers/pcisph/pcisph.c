@@ -583,7 +583,9 @@ static void restore_carried(run *r, pcs_snapshot *now)
 {
     sl_fluid *f = r->s.f;
     pcs_own_snapshot(&r->s, now); /* domain mode (set-up whole): this rank's, in its order */
-    const int fluid = now->carried, walls = restore_boundary(r);
+    /* a case without boundary particles has none to restore (a fully
+     * periodic box): not a file of an older format */
+    const int fluid = now->carried, walls = restore_boundary(r) || pcs_boundary_total(&r->s) == 0;
     if (fluid) {
         if (now->n != f->n)
             sl_fatal("restart: %zu fluid particles in the solver, %zu in the state read "
