@@ -53,19 +53,26 @@ sweep_status sweep_case_status(const sweep *s, size_t point)
 
 /* ---- preparing a case ------------------------------------------------------------ */
 
-/* A failed point's folder (a log without the solver's End: line: it died,
- * or was killed, part-way), before the point is run again: renamed
- * <case>.failed.<n>, n the first number not taken, so that what it wrote
- * is not deleted. */
-static void keep_failed(const sweep *s, size_t point, const char *dir)
+/* path renamed <path><tag><n>, n the first number not taken (nothing
+ * overwritten); the new name, allocated. */
+static char *keep_numbered(const char *path, const char *tag)
 {
-    const size_t len = strlen(dir) + 24;
-    char *kept = sl_malloc(len, "case name");
+    const size_t len = strlen(path) + strlen(tag) + 16;
+    char *kept = sl_malloc(len, "kept name");
     for (int n = 1;; n++) {
-        snprintf(kept, len, "%s.failed.%d", dir, n);
+        snprintf(kept, len, "%s%s%d", path, tag, n);
         if (access(kept, F_OK) != 0) break;
     }
-    if (rename(dir, kept)) sl_fatal("%s: cannot rename it to %s: %s", dir, kept, strerror(errno));
+    if (rename(path, kept)) sl_fatal("%s: cannot rename it to %s: %s", path, kept, strerror(errno));
+    return kept;
+}
+
+/* A failed point's folder (a log without the solver's End: line: it died,
+ * or was killed, part-way), before the point is run again: kept as
+ * <case>.failed.<n>, so that what it wrote is not deleted. */
+static void keep_failed(const sweep *s, size_t point, const char *dir)
+{
+    char *kept = keep_numbered(dir, ".failed.");
     fprintf(stderr, "%s: the failed run kept as %s\n", s->name[point], kept);
     free(kept);
 }
@@ -121,19 +128,11 @@ static void sweep_shell_word(FILE *f, const char *s)
     fputc('\'', f);
 }
 
-/* A stopped point's log, before it is resumed: renamed log.<application>.<n>,
- * n the first number not taken (nothing overwritten). */
+/* A stopped point's log, before it is resumed: kept as log.<application>.<n>. */
 static void keep_log(const sweep *s, size_t point)
 {
     char *dir = sweep_case_dir(s, point), *log = sweep_log_path(s, dir);
-    const size_t len = strlen(log) + 16;
-    char *kept = sl_malloc(len, "log name");
-    for (int n = 1;; n++) {
-        snprintf(kept, len, "%s.%d", log, n);
-        if (access(kept, F_OK) != 0) break;
-    }
-    if (rename(log, kept)) sl_fatal("%s: cannot rename it to %s: %s", log, kept, strerror(errno));
-    free(kept);
+    free(keep_numbered(log, "."));
     free(log);
     free(dir);
 }
