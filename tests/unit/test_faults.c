@@ -3,8 +3,10 @@
  * under tests/output/faults_*; written files are read back with VTK by
  * tests/cases/check_run.py (which also checks fluid.pvd).
  *
- *   - SIGINT / SIGTERM: the step is finished, a time directory written, the
- *     exit status is 0 with a message, and `startFrom latestTime` goes on;
+ *   - SIGINT / SIGTERM / SIGUSR2 and a `stopNow` file: the step is
+ *     finished, a time directory written, the exit status is 0 with a
+ *     message, and `startFrom latestTime` goes on; a stopNow made before
+ *     the run is removed with a warning;
  *   - a second signal stops at once (killed by it), SIGKILL at any moment:
  *     what was written stays readable, fluid.pvd stays valid, and a
  *     restart from latestTime works (also past a half-written "*.tmp.*");
@@ -286,31 +288,42 @@ static void restart_to(const char *name, double end)
 /* ---- signals ---- */
 
 /* A long run (endTime 5, writes every 0.02 s) stopped by `sig` after its
- * first write; then continued to 0.02 s past the stop. */
+ * first write (sig 0: by a file stopNow in the case, and a stale stopNow
+ * made before the run is removed, not obeyed); then continued to 0.02 s
+ * past the stop. */
 static void stop_by(int sig, const char *name)
 {
-    make_case(name, NULL);
+    make_case(name, sig ? NULL : "touch stopNow");
     set_key(name, "system/controlDict", "endTime", "5");
     set_key(name, "system/controlDict", "writeInterval", "0.02");
     pid_t pid = spawn(name);
     assert_true(wait_file(pid, name, "0.02/fluid.vtu", 300));
     sleep_s(0.1);
-    kill(pid, sig);
+    if (sig) kill(pid, sig);
+    else assert_int_equal(sh("touch tests/output/%s/stopNow", name), 0);
     int status = wait_end(pid, 120);
     char log[256];
     snprintf(log, sizeof log, "tests/output/%s.log", name);
     const char *text = slurp(log);
+    const char *how = sig ? strsignal(sig) : "stopNow";
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        fail_msg("after %s the solver ended with status %#x:\n%s", strsignal(sig), status, text);
-    const char *msg = strstr(text, "Stopped by a signal at t = ");
-    assert_non_null(msg);
+        fail_msg("after %s the solver ended with status %#x:\n%s", how, status, text);
+    const char *said = sig ? "Stopped by a signal at t = " : "Stopped by the file stopNow at t = ";
+    const char *msg = strstr(text, said);
+    if (!msg) fail_msg("no '%s' in the log:\n%s", said, text);
     assert_non_null(strstr(msg, "startFrom latestTime"));
-    double t_stop = strtod(msg + strlen("Stopped by a signal at t = "), NULL);
+    double t_stop = strtod(msg + strlen(said), NULL);
+    if (!sig) {
+        assert_non_null(strstr(text, "stopNow, left from before this run"));
+        char path[256];
+        snprintf(path, sizeof path, "tests/output/%s/stopNow", name);
+        assert_false(exists(path)); /* the request is used up */
+    }
     char dir[256];
     snprintf(dir, sizeof dir, "tests/output/%s", name);
     output o;
     check_intact(dir, 0, &o);
-    print_message("%s: stopped at t = %g\n", strsignal(sig), t_stop);
+    print_message("%s: stopped at t = %g\n", how, t_stop);
     assert_true(t_stop > 0.02 - 1e-9 && t_stop < 5);
     assert_true(fabs(o.last - t_stop) < 1e-6); /* the stop time was written */
     restart_to(name, t_stop + 0.02);
@@ -326,6 +339,15 @@ static void test_sigterm_writes_and_stops(void **state)
 {
     (void)state;
     stop_by(SIGTERM, "faults_sigterm");
+}
+
+/* USR2 (what mpirun forwards at once, doc/parallel.md "Signals") and the
+ * file stopNow stop the same way. */
+static void test_sigusr2_and_stop_now_file(void **state)
+{
+    (void)state;
+    stop_by(SIGUSR2, "faults_sigusr2");
+    stop_by(0, "faults_stopnow");
 }
 
 /* The second of two signals stops at once; SIGKILL stops anywhere.  In
@@ -998,6 +1020,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sigint_writes_and_stops),
         cmocka_unit_test(test_sigterm_writes_and_stops),
+        cmocka_unit_test(test_sigusr2_and_stop_now_file),
         cmocka_unit_test(test_second_signal_stops_at_once),
         cmocka_unit_test(test_sigkill_leaves_usable_output),
         cmocka_unit_test(test_sigusr1_writes_and_goes_on),

@@ -23,6 +23,7 @@
 #include "case_run.h"
 #include "parallel/par.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -994,6 +995,89 @@ static void test_block_units(void **state)
     unsetenv("SLUICE_GRID_UNIT");
 }
 
+/* Run tests/output/<name> on np ranks (extra: more options) until the time
+ * directory `wait_for` is written, then stop the job (usr2: kill -USR2 to
+ * mpirun, the signal it forwards at once; else the file stopNow).  The
+ * job must end with status 0 and its log (log.<tag>) say where it stopped:
+ * returned. */
+static double stop_job(const char *name, int np, const char *extra, const char *wait_for, int usr2,
+                       const char *tag)
+{
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd,
+             "cd tests/output/%s || exit 1; (ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}"
+             "detect_leaks=0\" exec mpirun -x ASAN_OPTIONS --oversubscribe --bind-to none --mca "
+             "mpi_yield_when_idle 1 -np %d %s/pcisph -case . -quiet -parallel %s > log.%s 2>&1) "
+             "& m=$!; i=0; while [ ! -e %s/fluid.vtu ] && kill -0 $m 2> /dev/null && "
+             "[ $i -lt 12000 ]; do sleep 0.05; i=$((i + 1)); done; %s; wait $m",
+             name, np, bin_dir(), extra, tag, wait_for, usr2 ? "kill -USR2 $m" : "touch stopNow");
+    int rc = system(cmd);
+    char log[512];
+    snprintf(log, sizeof log, "tests/output/%s/log.%s", name, tag);
+    FILE *f = fopen(log, "r");
+    assert_non_null(f);
+    static char text[1 << 16];
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    text[n] = 0;
+    fclose(f);
+    if (rc) fail_msg("the job ended with status %#x:\n%s", rc, text);
+    const char *said = usr2 ? "Stopped by a signal at t = " : "Stopped by the file stopNow at t = ";
+    const char *at = strstr(text, said);
+    if (!at) fail_msg("no '%s' in %s:\n%s", said, log, text);
+    double t = strtod(at + strlen(said), NULL);
+    print_message("%s on %d ranks: stopped at t = %.9g\n", usr2 ? "USR2 to mpirun" : "stopNow", np,
+                  t);
+    return t;
+}
+
+/* Stopping a job under mpirun leaves its final state (doc/parallel.md,
+ * "Signals"): mpirun forwards USR2 at once, and the file stopNow reaches
+ * every rank through rank 0 (a TERM reaches the ranks only after Open
+ * MPI's odls_base_sigkill_timeout, and a KILL follows one timeout later).
+ * The dam break (endTime 5) on 2 ranks is stopped by USR2 after its first
+ * write, resumed on 3 and stopped by stopNow after the next write time,
+ * then resumed on 2 to the write time after that: its files are the
+ * uninterrupted serial run's. */
+static void test_stop_under_mpirun(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    const char *edit = "sed -i 's/^endTime .*/endTime 5;/; s/^writeInterval .*/writeInterval "
+                       "0.02;/; s/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict";
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "rm -rf tests/output/parStop && mkdir -p tests/output && cp -r "
+             "tests/cases/damBreakShort tests/output/parStop && cd tests/output/parStop && %s",
+             edit);
+    assert_int_equal(system(cmd), 0);
+    const double t1 = stop_job("parStop", 2, "", "0.02", 1, "usr2");
+    char next[64];
+    snprintf(next, sizeof next, "%.9g", 0.02 * (floor(t1 / 0.02 + 1e-6) + 1));
+    const double t2 = stop_job("parStop", 3, "-resume", next, 0, "stopnow");
+    assert_true(t2 > t1);
+    assert_int_equal(system("grep -q 'Restarting from' tests/output/parStop/log.stopnow"), 0);
+    assert_int_not_equal(system("test -e tests/output/parStop/stopNow"), 0); /* used up */
+    const double end = 0.02 * (floor(t2 / 0.02 + 1e-6) + 1);
+    char set_end[256];
+    snprintf(set_end, sizeof set_end, "sed -i 's/^endTime .*/endTime %.9g;/' system/controlDict",
+             end);
+    snprintf(cmd, sizeof cmd,
+             "cd tests/output/parStop && %s && " MPIRUN
+             "-np 2 %s/pcisph -case . -quiet -parallel -resume > log.end 2>&1",
+             set_end, bin_dir());
+    assert_int_equal(system(cmd), 0);
+    char serial_edit[512];
+    snprintf(serial_edit, sizeof serial_edit, "%s && %s", edit, set_end);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parStopSerial", serial_edit, 0), 0);
+    snprintf(cmd, sizeof cmd,
+             "cd tests/output && cmp parStopSerial/%.9g/fluid.vtu parStop/%.9g/fluid.vtu && "
+             "cmp parStopSerial/%.9g/boundary.vtu parStop/%.9g/boundary.vtu && "
+             "! ls -d parStop/*.tmp* 2> /dev/null",
+             end, end, end, end);
+    if (system(cmd))
+        fail_msg("the stopped and resumed job's %.9g differs from the serial run's", end);
+}
+
 /* mpirun without -parallel would run the case N times over itself: refused. */
 static void test_mpirun_without_parallel(void **state)
 {
@@ -1085,6 +1169,7 @@ int main(void)
         cmocka_unit_test(test_relaxed_packing),
         cmocka_unit_test(test_mean_pressure_and_shifting),
         cmocka_unit_test(test_block_units),
+        cmocka_unit_test(test_stop_under_mpirun),
         cmocka_unit_test(test_mpirun_without_parallel),
         cmocka_unit_test(test_decompose_case),
     };

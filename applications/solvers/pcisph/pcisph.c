@@ -19,12 +19,16 @@
  * One solver per case: it holds a lock on <case>/.sluice.lock (case_lock).
  * Writes follow writeControl (adjustableRunTime: steps evened out to land
  * on each write time; runTime: the first step at or past it), and the
- * state at endTime is always written.  SIGINT/SIGTERM: finish the step,
- * write, exit (a second one stops at once); -resume (startFrom latestTime
- * for this run) continues.  SIGUSR1 or a file named `writeNow` in the
- * case: write now and go on.  Progress with the time left goes to stderr
- * (sl_progress); the End summary reports this session and, after a
- * restart, the whole run.
+ * state at endTime is always written.  SIGINT/SIGTERM/SIGUSR2 or a file
+ * named `stopNow` in the case: finish the step, write, exit (a second
+ * signal stops at once); -resume (startFrom latestTime for this run)
+ * continues.  SIGUSR1 or a file named `writeNow` in the case: write now
+ * and go on.  Open MPI's mpirun forwards USR1 and USR2 to the ranks as
+ * they are, but a TERM only after odls_base_sigkill_timeout and a KILL
+ * one such timeout later, with the log's end lost: under mpirun stop
+ * with USR2 or stopNow (doc/parallel.md, "Signals").  Progress with the
+ * time left goes to stderr (sl_progress); the End summary reports this
+ * session and, after a restart, the whole run.
  */
 #include "app/app.h"
 #include "case/case.h"
@@ -114,10 +118,13 @@ typedef struct run {
 } run;
 
 static volatile sig_atomic_t stop_requested, write_requested;
+static int stopped_by_file; /* the stop was asked for by the file stopNow */
+
+static volatile sig_atomic_t stop_signals; /* stop signals received */
 
 static void on_stop(int sig)
 {
-    if (stop_requested) { /* second signal: stop at once */
+    if (stop_signals++) { /* second signal: stop at once */
         signal(sig, SIG_DFL);
         raise(sig);
     }
@@ -144,7 +151,8 @@ static const app_option options[] = {
 static const app_info info = {
     .name = "pcisph",
     .what = "Runs the PCISPH solver on a case.\n"
-            "Signals: INT/TERM write and stop; USR1 (or a file <dir>/writeNow) writes now.\n"
+            "Signals: INT/TERM/USR2 (or a file <dir>/stopNow) write and stop; USR1 (or a\n"
+            "file <dir>/writeNow) writes now.  Under mpirun stop with USR2 or stopNow.\n"
             "One solver per case (lock <dir>/.sluice.lock); progress and the time left go to\n"
             "stderr (SLUICE_PROGRESS=off|line|plain).",
     .options = options};
@@ -191,6 +199,10 @@ static void print_world(const run *r, const char *dt_rule)
                 s->split.domain ? "domain mode, each rank stores its own particles and their halo"
                     : s->split.halo ? "halo mode, replicated state"
                                     : "gather mode, replicated state");
+    if (r->parallel) /* mpirun's TERM reaches the ranks late and a KILL follows (header) */
+        sl_info("  to stop             touch %s/stopNow, or send USR2 to mpirun: every rank "
+                "finishes the step and the state is written",
+                c->dir);
     const char *why =
         r->parallel && s->split.halo && !s->split.domain && !getenv("SLUICE_PARALLEL_EXCHANGE")
         ? pcd_periodic_refusal(s)
@@ -793,17 +805,24 @@ static void advance(run *r)
     write_if_due(r);
 }
 
-/* Requests to write (a signal, the file writeNow) and to stop: the
- * job's when any rank got one (-parallel: one reduction per step, so that
- * every rank writes and stops at the same step). */
-static void poll_write_requests(run *r)
+/* A request file <case>/<name> (rank 0 looks): found and used up. */
+static int take_request_file(const run *r, const char *name)
 {
     char path[4096];
-    snprintf(path, sizeof path, "%s/writeNow", r->c.dir);
-    if (r->root && access(path, F_OK) == 0) {
-        unlink(path);
-        write_requested = 1;
-    }
+    snprintf(path, sizeof path, "%s/%s", r->c.dir, name);
+    if (!r->root || access(path, F_OK) != 0) return 0;
+    unlink(path);
+    return 1;
+}
+
+/* Requests to write (a signal, the file writeNow) and to stop (a signal,
+ * the file stopNow): the job's when any rank got one (-parallel: one
+ * reduction per step, so that every rank writes and stops at the same
+ * step). */
+static void poll_write_requests(run *r)
+{
+    if (take_request_file(r, "writeNow")) write_requested = 1;
+    if (take_request_file(r, "stopNow")) stop_requested = stopped_by_file = 1;
     if (r->parallel) {
         const int any = par_max_int((write_requested ? 1 : 0) | (stop_requested ? 2 : 0));
         write_requested = (any & 1) != 0;
@@ -1050,6 +1069,12 @@ static void claim_case(run *r)
         if (n)
             sl_warning("removed %zu temporaries left in %s by runs that died: %s", n, r->c.dir,
                        names);
+        static const char *const requests[] = {"writeNow", "stopNow"};
+        for (int q = 0; q < 2; q++) /* made before this run: not for it */
+            if (take_request_file(r, requests[q]))
+                sl_warning("removed %s/%s, left from before this run (a request to the run "
+                           "that holds the case)",
+                           r->c.dir, requests[q]);
     }
     par_barrier(); /* the others read the case after rank 0 holds and cleaned it */
 }
@@ -1059,9 +1084,10 @@ static void stopped_by_signal(run *r)
     if (r->last_write != r->t) write_time(r);
     if (r->root) rec_flush(&r->rec);
     sl_progress_end(&r->prog);
-    sl_info("Stopped by a signal at t = %.9g (written to %s/%s); resume with ./Allrun -resume, "
+    sl_info("Stopped by %s at t = %.9g (written to %s/%s); resume with ./Allrun -resume, "
             "or pcisph -case %s -resume (startFrom latestTime for one run)",
-            r->t, r->c.dir, r->out.last_name, r->c.dir);
+            stopped_by_file ? "the file stopNow" : "a signal", r->t, r->c.dir, r->out.last_name,
+            r->c.dir);
 }
 
 static void parse_args(run *r, int argc, char **argv, const char **dir)
@@ -1111,6 +1137,7 @@ int main(int argc, char **argv)
     parse_args(&r, argc, argv, &dir);
     signal(SIGINT, on_stop);
     signal(SIGTERM, on_stop);
+    signal(SIGUSR2, on_stop); /* mpirun forwards it at once, and sends no KILL after it */
     signal(SIGUSR1, on_write);
     case_read(&r.c, dir);
     if (r.resume) r.c.ctl.start_from = CASE_LATEST_TIME;

@@ -75,8 +75,9 @@ char *sweep_case_dir(const sweep *s, size_t point);
  * next run of the sweep resumes it (-resume) instead of starting again. */
 typedef enum { SWEEP_NOT_RUN, SWEEP_FAILED, SWEEP_FINISHED, SWEEP_STOPPED } sweep_status;
 
-/* From the log: stopped if it has the solver's "Stopped by a signal"
- * line, else finished if it has its "End:" line. */
+/* From the log: stopped if it has the solver's "Stopped by a signal" or
+ * "Stopped by the file stopNow" line, else finished if it has its "End:"
+ * line. */
 sweep_status sweep_case_status(const sweep *s, size_t point);
 /* Clone the base case into the point's folder (replacing it; a failed
  * run's folder is kept as <case>.failed.<n>) and set the point's values;

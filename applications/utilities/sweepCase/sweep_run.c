@@ -41,7 +41,9 @@ sweep_status sweep_case_status(const sweep *s, size_t point)
     if (f) {
         st = SWEEP_FAILED;
         while (st == SWEEP_FAILED && getline(&line, &len, f) >= 0)
-            if (!strncmp(line, "Stopped by a signal", 19)) st = SWEEP_STOPPED;
+            if (!strncmp(line, "Stopped by a signal", 19) ||
+                !strncmp(line, "Stopped by the file stopNow", 27))
+                st = SWEEP_STOPPED;
             else if (!strncmp(line, "End:", 4)) st = SWEEP_FINISHED;
         fclose(f);
     }
