@@ -13,9 +13,10 @@
 #define SL_THREADS_H
 
 /* First thing in main: unless OMP_WAIT_POLICY or GOMP_SPINCOUNT is set,
- * set OMP_WAIT_POLICY=passive and start the program again (libgomp reads
- * its environment once, when it is loaded).  If that fails the program
- * goes on with the default policy. */
+ * set OMP_WAIT_POLICY=passive and start the program again from its own
+ * path, keeping its pid and its name (libgomp reads its environment once,
+ * when it is loaded).  If that fails the program goes on with the default
+ * policy. */
 void sl_threads_passive(char **argv);
 
 #endif

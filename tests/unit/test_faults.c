@@ -147,6 +147,8 @@ static pid_t spawn(const char *name)
         dup2(fd, 1);
         dup2(fd, 2);
         close(fd);
+        unsetenv("OMP_WAIT_POLICY"); /* the solver's own restart with it (sl_threads.h) */
+        unsetenv("GOMP_SPINCOUNT");
         execl(exe, exe, "-case", dir, (char *)NULL);
         _exit(127);
     }
@@ -299,6 +301,15 @@ static void stop_by(int sig, const char *name)
     pid_t pid = spawn(name);
     assert_true(wait_file(pid, name, "0.02/fluid.vtu", 300));
     sleep_s(0.1);
+    /* started again for passive OpenMP waits (sl_threads.h), it keeps its
+     * name: ps, pgrep and killall find it */
+    char comm_path[64], comm[64] = "";
+    snprintf(comm_path, sizeof comm_path, "/proc/%d/comm", (int)pid);
+    FILE *cf = fopen(comm_path, "r");
+    assert_non_null(cf);
+    assert_non_null(fgets(comm, sizeof comm, cf));
+    fclose(cf);
+    if (strcmp(comm, "pcisph\n")) fail_msg("the solver's process is called '%s', not pcisph", comm);
     if (sig) kill(pid, sig);
     else assert_int_equal(sh("touch tests/output/%s/stopNow", name), 0);
     int status = wait_end(pid, 120);
