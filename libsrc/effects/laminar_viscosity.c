@@ -141,13 +141,33 @@ static void sum_tensor(const krn_kernel *k, const uint32_t *idx, uint32_t q0, ui
     for (int e = 0; e < 3; e++) a[e] += scale * s[e];
 }
 
+/* tensorLimit: the departure of tau A from I (the scalar normalization's
+ * tau A) shrunk to Frobenius norm `limit` where it is larger, in place:
+ * A = (I + s (tau A - I)) / tau, s = limit / |tau A - I|; 0 gives I / tau
+ * (the scalar normalization), HUGE_VAL leaves A as it is. */
+static void limit_tensor(double A[9], double tau, double limit)
+{
+    double d2 = 0.0;
+    for (int e = 0; e < 9; e++) {
+        const double dev = A[e] * tau - (e % 4 == 0 ? 1.0 : 0.0);
+        d2 += dev * dev;
+    }
+    if (!(d2 > limit * limit)) return;
+    const double s = limit / sqrt(d2);
+    for (int e = 0; e < 9; e++) {
+        const double id = e % 4 == 0 ? 1.0 : 0.0;
+        A[e] = (id + s * (A[e] * tau - id)) / tau;
+    }
+}
+
 /* Particle i's acceleration with normalized tensor: Q from its fluid and
- * boundary neighbours, A from Q : A = I, the sums with the corrected
+ * boundary neighbours, A from Q : A = I (its departure from the scalar
+ * normalization capped at `limit`, HUGE_VAL for none), the sums with the corrected
  * weights; where A is not found (or the sum is deficient, tau <= 1/2) the
  * scalar normalization's a / tau, or the plain sum. */
 static void tensor_one(const krn_kernel *k, double mass, double rho0, double c, double cb,
                        const sl_fluid *f, const sl_boundary *b, const nbr_list *ff,
-                       const nbr_list *fb, size_t i, double eps_h2, double a[3])
+                       const nbr_list *fb, size_t i, double eps_h2, double limit, double a[3])
 {
     const double pi[3] = {f->x[i], f->y[i], f->z[i]}, vi[3] = {f->vx[i], f->vy[i], f->vz[i]};
     const double vf = mass / rho0, irho0 = 1.0 / rho0;
@@ -174,6 +194,8 @@ static void tensor_one(const krn_kernel *k, double mass, double rho0, double c, 
         const double g = tau > 0.5 ? 1.0 / tau : 1.0;
         A[0] = A[4] = A[8] = g;
         A[1] = A[2] = A[3] = A[5] = A[6] = A[7] = 0.0;
+    } else {
+        limit_tensor(A, tau, limit);
     }
     sum_tensor(k, ff->idx, ff->start[i], ff->start[i + 1], pi, vi, f->x, f->y, f->z, f->vx, f->vy,
                f->vz, NULL, eps_h2, mass * c, A, a);
@@ -192,7 +214,7 @@ void lvisc_apply(const lvisc_params *p, const krn_kernel *k, double mass, double
 #pragma omp parallel for schedule(dynamic, 512)
         for (size_t i = i0; i < i1; i++) {
             double a[3] = {0.0, 0.0, 0.0};
-            tensor_one(&kk, mass, rho0, c, cb, f, b, ff, fb, i, eps_h2, a);
+            tensor_one(&kk, mass, rho0, c, cb, f, b, ff, fb, i, eps_h2, p->tensor_limit, a);
             f->ax[i] += a[0];
             f->ay[i] += a[1];
             f->az[i] += a[2];
@@ -219,7 +241,7 @@ void lvisc_apply(const lvisc_params *p, const krn_kernel *k, double mass, double
     }
 }
 
-static const char *const keys[] = {"nu", "boundaryNu", "normalized", NULL};
+static const char *const keys[] = {"nu", "boundaryNu", "normalized", "tensorLimit", NULL};
 
 static void *read(const dict *d, const eff_setup *su)
 {
@@ -243,6 +265,21 @@ static void *read(const dict *d, const eff_setup *su)
                    "must be off, on (the sum over the scalar second moment) or tensor (each "
                    "pair's weight corrected by the fourth moment), not '%s'",
                    w);
+    p->tensor_limit = HUGE_VAL;
+    const char *lim;
+    if (dict_has(v, "tensorLimit") &&
+        (dict_get_word(v, "tensorLimit", &lim, &err) ||
+         strcmp(lim, "none"))) { /* none: the default */
+        if (p->normalized != LVISC_TENSOR)
+            dict_fatal(v, "tensorLimit", "applies to normalized tensor only (normalized is '%s')",
+                       w);
+        dict_need(dict_get_scalar(v, "tensorLimit", &p->tensor_limit, &err), &err);
+        if (!(p->tensor_limit >= 0.0))
+            dict_fatal(v, "tensorLimit",
+                       "must be none, zero (the scalar normalization) or positive (the "
+                       "largest departure |tau A - I| of the tensor from the scalar "
+                       "normalization)");
+    }
     return p;
 }
 

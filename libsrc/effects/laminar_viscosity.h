@@ -34,7 +34,14 @@
  * r_d / r^2, solved per particle per step), so that M : H is tr(H) on any
  * packing: exact for a quadratic field where grad v = 0 (the first moment
  * D is left), A_i = I / tau_i on the cubic lattice; where A_i is not
- * positive definite or the system singular, tau_i as with on.  Neither is
+ * positive definite or the system singular, tau_i as with on.
+ * tensorLimit L > 0 caps the correction's departure from the scalar
+ * normalization: where |tau_i A_i - I| (Frobenius) exceeds L, tau_i A_i =
+ * I + (L / |tau_i A_i - I|) (tau_i A_i - I), so A_i stays between the two
+ * (0: the scalar normalization, as with on; none, the default: no limit)
+ * (a study knob: on the Taylor-Green vortex's finest level the packing's
+ * rearrangement sets A_i apart from particle to particle;
+ * doc/verification.md, "What tensor corrects at the finest level").  Neither is
  * pairwise symmetric (momentum not conserved to the bit); tensor costs
  * a second pass over the neighbours and a 6x6 solve per particle
  * (doc/verification.md: its time).
@@ -52,9 +59,10 @@
 #define LVISC_TENSOR 2
 
 typedef struct lvisc_params {
-    double nu;          /* m^2/s, fluid-fluid */
-    double nu_boundary; /* m^2/s, fluid-boundary */
-    int normalized;     /* 0; 1: a_i over the packing's second moment tau_i; LVISC_TENSOR */
+    double nu;           /* m^2/s, fluid-fluid */
+    double nu_boundary;  /* m^2/s, fluid-boundary */
+    int normalized;      /* 0; 1: a_i over the packing's second moment tau_i; LVISC_TENSOR */
+    double tensor_limit; /* tensorLimit: the largest |tau_i A_i - I| (Frobenius); HUGE_VAL none */
 } lvisc_params;
 
 extern const eff_type eff_laminar_viscosity;

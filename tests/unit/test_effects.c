@@ -117,8 +117,9 @@ static void test_droplet_rounds(void **state)
  * jit r0 (a deterministic hash), for v_x = x^2 + 2 y^2 about it (grad v
  * = 0 there, nu Laplacian v_x = 6 nu exactly: a flow in the x-y plane, as
  * the Taylor-Green vortex), normalized as
- * given (0, 1 or LVISC_TENSOR). */
-static double laminar_of_quadratic(double sx, double sy, double sz, double jit, int normalized)
+ * given (0, 1 or LVISC_TENSOR; tensorLimit limit, HUGE_VAL none). */
+static double laminar_limited(double sx, double sy, double sz, double jit, int normalized,
+                              double limit)
 {
     const double r0 = 0.01, nu = 1e-3, rho0 = 1000.0;
     krn_kernel k;
@@ -147,13 +148,18 @@ static double laminar_of_quadratic(double sx, double sy, double sz, double jit, 
     sl_boundary b;
     prt_boundary_init(&b);
     f.ax[0] = f.ay[0] = f.az[0] = 0.0;
-    const lvisc_params prm = {nu, nu, normalized};
+    const lvisc_params prm = {nu, nu, normalized, limit};
     lvisc_apply(&prm, &k, rho0 * r0 * r0 * r0, rho0, &f, &b, &ff, &fb, 0, 1);
     const double a = f.ax[0] / (6.0 * nu);
     free(idx);
     prt_boundary_free(&b);
     prt_fluid_free(&f);
     return a;
+}
+
+static double laminar_of_quadratic(double sx, double sy, double sz, double jit, int normalized)
+{
+    return laminar_limited(sx, sy, sz, jit, normalized, HUGE_VAL);
 }
 
 /* normalized tensor: on a lattice stretched by 3 % along x and y, not z
@@ -177,6 +183,16 @@ static void test_laminar_tensor_normalization(void **state)
                   scalar, tensor);
     assert_true(fabs(tensor - 1.0) < 1e-9);
     assert_true(fabs(scalar - 1.0) > 0.004);
+    /* tensorLimit: 0 is the scalar normalization, a large
+     * one the tensor; in between, between the two */
+    const double tiny = laminar_limited(1.03, 1.03, 1.0, 0.3, LVISC_TENSOR, 0.0);
+    const double wide = laminar_limited(1.03, 1.03, 1.0, 0.3, LVISC_TENSOR, 1e3);
+    const double mid = laminar_limited(1.03, 1.03, 1.0, 0.3, LVISC_TENSOR, 0.02);
+    print_message("tensorLimit 0 %.9f, 0.02 %.6f, 1e3 %.9f of 6 nu\n", tiny, mid, wide);
+    assert_true(fabs(tiny - scalar) < 1e-9);
+    assert_true(fabs(wide - 1.0) < 1e-9);
+    assert_true((mid - scalar) * (1.0 - mid) > 0.0 && fabs(mid - scalar) > 1e-4 &&
+                fabs(mid - 1.0) > 1e-4);
 }
 
 int main(void)
