@@ -990,6 +990,11 @@ static void test_verify_case_refusals(void **state)
         run("%s/editDictionary %s/system/verifyDict -entry exact -set poiseuille", b, c), 0);
     assert_int_not_equal(run("%s/verifyCase -case %s", b, c), 0);
     assert_non_null(strstr(output, "nu"));
+    /* the Poiseuille profile needs a viscosity (a Taylor-Green vortex may have none) */
+    assert_int_equal(run("%s/editDictionary %s/system/verifyDict -entry nu -set 0", b, c), 0);
+    assert_int_not_equal(run("%s/verifyCase -case %s", b, c), 0);
+    assert_non_null(strstr(output, "'nu': must be a positive number"));
+    assert_int_equal(run("%s/editDictionary %s/system/verifyDict -entry nu -remove", b, c), 0);
     /* above the tolerance: exit 1 and say so */
     assert_int_equal(run("%s/editDictionary %s/system/verifyDict -entry exact -set "
                          "translatingTank && %s/editDictionary %s/system/verifyDict -entry "
