@@ -7,7 +7,9 @@
  *   exact      poiseuille;   // hydrostatic translatingTank poiseuille taylorGreen standingWave
  *   nu         0.01;         // m^2/s: poiseuille, taylorGreen, standingWave (decay)
  *   amplitude  0.05;         // m/s (taylorGreen U) or m (standingWave A)
- *   length     0.2;          // m: taylorGreen period L
+ *   length     0.2;          // m: taylorGreen period L; standingWave half
+ *                            // wavelength L (default the tank's length; a
+ *                            // tank periodic along x holds whole wavelengths)
  *   from       0;            // only written times at or after it enter the norm
  *   tolerance  0.05;         // optional: exit 1 when the error is above it
  *
@@ -69,6 +71,8 @@ void vc_measure(const vc_setup *s, const sl_fluid *f, double t, vc_sample *out);
 double vc_poiseuille(double g, double nu, double d, double z, double t);
 /* The standing wave's linear period 2 pi / sqrt(g k tanh(k H)), k = pi / L. */
 double vc_wave_period(double g, double L, double H);
+/* The standing wave's half wavelength: verifyDict's length, else the tank's. */
+double vc_wave_length(const vc_setup *s);
 
 /* The standing wave's record fitted to A exp(-d t) cos(w t + phi) + c
  * (vc_fit.c): period 2 pi / w and decay d with their one-sigma fit

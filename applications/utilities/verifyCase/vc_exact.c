@@ -65,7 +65,8 @@ void vc_read(vc_setup *s, const sl_case *c)
     s->amplitude = need_scalar(d, "amplitude", 0.0, amp);
     if (amp) dict_need_positive(d, "amplitude", s->amplitude);
     s->length = need_scalar(d, "length", 0.0, s->kind == VC_TAYLOR_GREEN);
-    if (s->kind == VC_TAYLOR_GREEN) dict_need_positive(d, "length", s->length);
+    if (s->kind == VC_TAYLOR_GREEN || dict_has(d, "length"))
+        dict_need_positive(d, "length", s->length);
     s->from = need_scalar(d, "from", 0.0, 0);
     s->tolerance = need_scalar(d, "tolerance", -1.0, 0);
     if (dict_has(d, "tolerance")) dict_need_positive(d, "tolerance", s->tolerance);
@@ -102,6 +103,11 @@ double vc_wave_period(double g, double L, double H)
 {
     const double pi = 3.14159265358979323846, k = pi / L;
     return 2.0 * pi / sqrt(g * k * tanh(k * H));
+}
+
+double vc_wave_length(const vc_setup *s)
+{
+    return s->length > 0.0 ? s->length : s->hi[0] - s->lo[0];
 }
 
 /* The exact velocity of particle i at time t. */
@@ -155,7 +161,7 @@ void vc_measure(const vc_setup *s, const sl_fluid *f, double t, vc_sample *out)
     const double H = s->depth, pg = s->rho0 * s->gmag;
     double sp = 0.0, sv = 0.0, su = 0.0, ke = 0.0, top = -INFINITY, pm = 0.0, mm = 0.0;
     double sd = 0.0, sd2 = 0.0; /* taylorGreen: p - exact p, and its square */
-    const double kw = 3.14159265358979323846 / (s->hi[0] - s->lo[0]);
+    const double kw = 3.14159265358979323846 / vc_wave_length(s);
     for (size_t i = 0; i < f->n; i++) {
         double v[3];
         exact_velocity(s, f->x[i], f->y[i], f->z[i], t, v);

@@ -288,7 +288,7 @@ int main(int argc, char **argv)
         error = counted ? mean / (double)counted : (double)NAN;
         what = "mean over the times";
     } else if (s.kind == VC_WAVE) {
-        Te = vc_wave_period(s.gmag, s.hi[0] - s.lo[0], s.depth);
+        Te = vc_wave_period(s.gmag, vc_wave_length(&s), s.depth);
         double *tc = sl_malloc(times.n * sizeof *tc, "crossings");
         size_t *at = sl_malloc(times.n * sizeof *at, "crossings");
         const int ncross = wave_crossings(smp, times.n, Te, tc, at);
@@ -300,8 +300,8 @@ int main(int argc, char **argv)
                      c.dir, 0.25 * Te);
         error = fabs(T - Te) / Te;
         printf("# period %.6g s from %d zero crossings, linear theory %.6g s (L %g m, H %.6g m)\n",
-               T, ncross, Te, s.hi[0] - s.lo[0], s.depth);
-        const double k = 3.14159265358979323846 / (s.hi[0] - s.lo[0]);
+               T, ncross, Te, vc_wave_length(&s), s.depth);
+        const double k = 3.14159265358979323846 / vc_wave_length(&s);
         int npeaks;
         decay[0] = wave_decay(smp, times.n, at, ncross, &npeaks);
         decay[1] = 2.0 * s.nu * k * k;
