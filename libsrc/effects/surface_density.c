@@ -3,6 +3,7 @@
 
 #include <string.h>
 
+#include "core/sl_log.h"
 #include "kernel/sph_sums.h"
 
 static void *read(const dict *d, const eff_setup *su)
@@ -13,6 +14,15 @@ static void *read(const dict *d, const eff_setup *su)
     (void)su;
     if (!dict_sub(d, "surfaceDensityCorrection"))
         dict_need(dict_get_bool(d, "surfaceDensityCorrection", &on, &err), &err);
+    if (on) { /* measured, not fixed: doc/verification.md */
+        const dict_entry *e = dict_lookup(d, "surfaceDensityCorrection");
+        sl_warning("%s:%d: keyword 'surfaceDensityCorrection': a free surface at rest does not "
+                   "stay at rest with it (its corrected density takes the neighbours' "
+                   "compression, and that pressure pushes the surface out: a 0.1 m deep tank at "
+                   "rest rises by 2-7 cm within 0.2 s at r0 0.01 m); see doc/verification.md, "
+                   "\"surfaceDensityCorrection and a free surface at rest\"",
+                   dict_entry_file(e), dict_entry_line(e));
+    }
     return on ? &on_state : NULL;
 }
 
