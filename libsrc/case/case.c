@@ -420,12 +420,15 @@ static void read_packing(sl_case *c, const dict *d)
  *   pressureSource { type divergence; warmStart off; gradientCorrection on; }
  *   pressureSource { type divergence; ...; meanPressure 0; }   the pressures not clamped,
  *                                 their mean held at 0 Pa (a box periodic along every axis)
+ *   pressureSource { type mixed; relaxation 0.5; }   p += 0.5 delta rho_err* (any type;
+ *                                 default 1, eq. 3)
  * and densityWeight in the dictionary of type mixed. */
 static void read_source(const dict *d, pcs_params *p, case_where *mean_where)
 {
     static const char *const types[] = {"density", "divergence", "mixed", NULL};
     static const char *const keys[] = {
-        "type", "densityWeight", "warmStart", "gradientCorrection", "meanPressure", NULL};
+        "type",         "densityWeight", "warmStart", "gradientCorrection",
+        "meanPressure", "relaxation",    NULL};
     sl_err err;
     const char *w;
     p->source = PCS_SOURCE_DENSITY;
@@ -445,10 +448,15 @@ static void read_source(const dict *d, pcs_params *p, case_where *mean_where)
         p->source = choose(q, "type", w, types);
         if (dict_has(q, "densityWeight") && p->source != PCS_SOURCE_MIXED)
             bad_value(q, "densityWeight", "is the weight of type mixed only");
-        if (p->source == PCS_SOURCE_DENSITY && dict_size(q) > 1)
+        need(dict_get_scalar_or(q, "relaxation", 1.0, &p->relaxation, &err), &err);
+        if (!(p->relaxation > 0.0 && p->relaxation <= 1.0))
+            bad_value(q, "relaxation",
+                      "must be omega of p += omega delta rho_err, above 0 and at most 1 (default "
+                      "1, the paper's eq. 3; 0.5 as IISPH's relaxed Jacobi)");
+        if (p->source == PCS_SOURCE_DENSITY && dict_size(q) > 1 + (size_t)dict_has(q, "relaxation"))
             bad_value(q, "type",
-                      "density takes no options (warmStart and gradientCorrection are those of "
-                      "divergence and mixed)");
+                      "density takes no options but relaxation (warmStart and gradientCorrection "
+                      "are those of divergence and mixed)");
         need(dict_get_bool_or(q, "warmStart", 1, &p->warm_start, &err), &err);
         need(dict_get_bool_or(q, "gradientCorrection", 0, &p->grad_correction, &err), &err);
         if (dict_has(q, "meanPressure")) {

@@ -36,6 +36,7 @@ void pcs_params_default(pcs_params *p)
     p->restitution = 0.0;
     p->mass_factor = 1.0;
     p->support = 2.0;
+    p->relaxation = 1.0;
 }
 
 double pcs_mass_lattice(const pcs_params *p)
@@ -75,7 +76,7 @@ void pcs_set_dt(pcs_solver *s, double dt)
 {
     s->dt = dt;
     s->beta = 2.0 * (s->mass * dt / s->prm.rho0) * (s->mass * dt / s->prm.rho0);
-    s->delta = pcs_delta(&s->k, s->prm.r0, s->mass, s->prm.rho0, dt);
+    s->delta = s->prm.relaxation * pcs_delta(&s->k, s->prm.r0, s->mass, s->prm.rho0, dt);
 }
 
 /* ---- the passes of a boundary method, compiled once per method ---- */

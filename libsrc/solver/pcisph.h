@@ -76,6 +76,12 @@ typedef struct pcs_params {
                           * update; for a box without a free surface, where the
                           * projection fixes the pressure only up to a constant */
     double mean_pressure; /* Pa */
+    double relaxation;    /* omega of p += omega delta rho_err* (pressureSource's relaxation,
+                          * default 1: eq. 3).  delta is the prototype's; where a
+                          * compressed or wide-support packing's largest mode has
+                          * delta lambda > 2, the iteration grows that mode, which a
+                          * warm start carries from step to step (relaxed Jacobi,
+                          * IISPH's omega 0.5, damps it) */
 } pcs_params;
 
 enum { PCS_SOURCE_DENSITY = 0, PCS_SOURCE_DIVERGENCE = 1, PCS_SOURCE_MIXED = 2 };
