@@ -540,6 +540,20 @@ static void read_fluid(sl_case *c)
     }
     p->max_iter = (int)l;
     read_source(d, p, &c->mean_where);
+    if (p->source != PCS_SOURCE_DENSITY && p->warm_start) {
+        /* a packing 2 % closer than the lattice: what a settled column's
+         * bottom and a wave's crests reach (doc/verification.md, "The
+         * relaxation of the pressure update") */
+        const double dl = p->relaxation * pcs_delta_lambda_max(p->kernel, p->support, 0.98);
+        if (dl > 2.0)
+            warn_value(d, "pressureSource",
+                       "warm-started at kernelSupport %g, one pressure update grows the largest "
+                       "modes of a packing 2 %% closer than the lattice (relaxation times delta "
+                       "lambda %.2f > 2), which the warm start carries from step to step: the "
+                       "run may stop \"not converging\"; relaxation 0.5 keeps them damped "
+                       "(pressureSource { type ...; relaxation 0.5; }, IISPH's relaxed Jacobi)",
+                       p->support, dl);
+    }
     /* the effects of the fluid, in the order they act: gravity first */
     void *g = eff_gravity_new(p->gravity);
     if (g) eff_add(&c->effects, &eff_gravity, g);

@@ -72,6 +72,47 @@ double pcs_delta(const krn_kernel *k, double r0, double mass, double rho0, doubl
     return -1.0 / (beta * (-(gx * gx + gy * gy + gz * gz) - gg)); /* eq. (4) */
 }
 
+/* delta times the largest eigenvalue of eq. (3)'s update on a cubic
+ * lattice of spacing scale * r0 (kernel of support `support` r0; delta of
+ * the lattice of spacing r0, as the solver's).  A pressure mode p_j =
+ * P exp(i k . x_j) changes the predicted density by -beta / 2 |H(k)|^2 P,
+ * H(k) = sum_j sin(k . x_ij) grad W_ij, so one update p += delta rho_err
+ * multiplies the mode's residual by 1 - |H|^2 / (2 sum_j |grad W_ij|^2):
+ * it grows where that exceeds 2.  The largest over k (a grid of 25 per
+ * axis on [0, pi / (scale r0)], k_x >= k_y >= k_z). */
+double pcs_delta_lambda_max(int type, double support, double scale)
+{
+    const double r0 = 1.0;
+    krn_kernel k;
+    krn_init_type(&k, type, support * r0);
+    const double m = 1.0, rho0 = 1.0, dt = 1.0;
+    const double beta = 2.0 * (m * dt / rho0) * (m * dt / rho0);
+    const double delta = pcs_delta(&k, r0, m, rho0, dt); /* 1 / (beta sum |g|^2) at scale 1 */
+    const int reach = (int)ceil(support) + 1;
+    double best = 0.0;
+    const int n = 25;
+    for (int a = 0; a < n; a++)
+        for (int b = 0; b <= a; b++)
+            for (int c = 0; c <= b; c++) {
+                const double kx = M_PI * a / (n - 1) / scale, ky = M_PI * b / (n - 1) / scale,
+                             kz = M_PI * c / (n - 1) / scale;
+                double h[3] = {0.0, 0.0, 0.0};
+                for (int i = -reach; i <= reach; i++)
+                    for (int j = -reach; j <= reach; j++)
+                        for (int l = -reach; l <= reach; l++) {
+                            const double x = i * scale, y = j * scale, z = l * scale;
+                            const double f = krn_gradf(&k, sqrt(x * x + y * y + z * z));
+                            const double s = sin(kx * x + ky * y + kz * z);
+                            h[0] += s * f * x;
+                            h[1] += s * f * y;
+                            h[2] += s * f * z;
+                        }
+                const double v = delta * beta / 2.0 * (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+                best = v > best ? v : best;
+            }
+    return best;
+}
+
 void pcs_set_dt(pcs_solver *s, double dt)
 {
     s->dt = dt;

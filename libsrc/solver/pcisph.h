@@ -253,6 +253,12 @@ pcs_view pcs_view_of(const pcs_solver *s);
  * on a cubic lattice of spacing r0, with beta of eq. (5). */
 double pcs_delta(const krn_kernel *k, double r0, double mass, double rho0, double dt);
 
+/* delta lambda_max of eq. (3)'s update p += delta rho_err on a cubic
+ * lattice of spacing scale r0 (kernel `type` of support `support` r0,
+ * delta of the lattice of spacing r0): above 2 one update grows that
+ * lattice's largest pressure mode (pcs_params' relaxation). */
+double pcs_delta_lambda_max(int type, double support, double scale);
+
 /* Set up: grid over [lo, hi], boundary sorted and its masses set,
  * fluid sorted, delta for dt.  The solver keeps pointers to f, b and the
  * effects (NULL: none, not even gravity; see effects/gravity.h). */

@@ -107,47 +107,6 @@ static void test_delta(void **state)
     assert_close(d2 * 4.0, d, 1e-9 * d);
 }
 
-/* delta times the largest eigenvalue of eq. (3)'s update on a cubic
- * lattice of spacing scale * r0 (kernel of support `support` r0; delta of
- * the lattice of spacing r0, as the solver's).  A pressure mode p_j =
- * P exp(i k . x_j) changes the predicted density by -beta / 2 |H(k)|^2 P,
- * H(k) = sum_j sin(k . x_ij) grad W_ij, so one update p += delta rho_err
- * multiplies the mode's residual by 1 - |H|^2 / (2 sum_j |grad W_ij|^2):
- * it grows where that exceeds 2.  The largest over k (a grid of 25 per
- * axis on [0, pi / (scale r0)], k_x >= k_y >= k_z). */
-static double delta_lambda_max(int type, double support, double scale)
-{
-    const double r0 = 1.0;
-    krn_kernel k;
-    krn_init_type(&k, type, support * r0);
-    const double m = 1.0, rho0 = 1.0, dt = 1.0;
-    const double beta = 2.0 * (m * dt / rho0) * (m * dt / rho0);
-    const double delta = pcs_delta(&k, r0, m, rho0, dt); /* 1 / (beta sum |g|^2) at scale 1 */
-    const int reach = (int)ceil(support) + 1;
-    double best = 0.0;
-    const int n = 25;
-    for (int a = 0; a < n; a++)
-        for (int b = 0; b <= a; b++)
-            for (int c = 0; c <= b; c++) {
-                const double kx = M_PI * a / (n - 1) / scale, ky = M_PI * b / (n - 1) / scale,
-                             kz = M_PI * c / (n - 1) / scale;
-                double h[3] = {0.0, 0.0, 0.0};
-                for (int i = -reach; i <= reach; i++)
-                    for (int j = -reach; j <= reach; j++)
-                        for (int l = -reach; l <= reach; l++) {
-                            const double x = i * scale, y = j * scale, z = l * scale;
-                            const double f = krn_gradf(&k, sqrt(x * x + y * y + z * z));
-                            const double s = sin(kx * x + ky * y + kz * z);
-                            h[0] += s * f * x;
-                            h[1] += s * f * y;
-                            h[2] += s * f * z;
-                        }
-                const double v = delta * beta / 2.0 * (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
-                best = v > best ? v : best;
-            }
-    return best;
-}
-
 /* Why the warm-started pressure sources need pressureSource's relaxation
  * at 2.4 r0 (doc/verification.md, "The relaxation of the pressure
  * update"): on the cubic lattice delta lambda_max is 1.41 at 2 r0, 1.65
@@ -158,12 +117,12 @@ static double delta_lambda_max(int type, double support, double scale)
 static void test_delta_largest_mode(void **state)
 {
     (void)state;
-    const double c20 = delta_lambda_max(KRN_CUBIC_SPLINE, 2.0, 1.0),
-                 c24 = delta_lambda_max(KRN_CUBIC_SPLINE, 2.4, 1.0),
-                 c20c = delta_lambda_max(KRN_CUBIC_SPLINE, 2.0, 0.98),
-                 c24c = delta_lambda_max(KRN_CUBIC_SPLINE, 2.4, 0.98),
-                 w22 = delta_lambda_max(KRN_WENDLAND_C2, 2.2, 1.0),
-                 w22c = delta_lambda_max(KRN_WENDLAND_C2, 2.2, 0.98);
+    const double c20 = pcs_delta_lambda_max(KRN_CUBIC_SPLINE, 2.0, 1.0),
+                 c24 = pcs_delta_lambda_max(KRN_CUBIC_SPLINE, 2.4, 1.0),
+                 c20c = pcs_delta_lambda_max(KRN_CUBIC_SPLINE, 2.0, 0.98),
+                 c24c = pcs_delta_lambda_max(KRN_CUBIC_SPLINE, 2.4, 0.98),
+                 w22 = pcs_delta_lambda_max(KRN_WENDLAND_C2, 2.2, 1.0),
+                 w22c = pcs_delta_lambda_max(KRN_WENDLAND_C2, 2.2, 0.98);
     print_message("delta lambda_max: cubic 2 r0 %.3f (2 %% closer %.3f), 2.4 r0 %.3f (%.3f); "
                   "Wendland C2 2.2 r0 %.3f (%.3f)\n",
                   c20, c20c, c24, c24c, w22, w22c);
