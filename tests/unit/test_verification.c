@@ -1124,6 +1124,17 @@ static void test_mixed_source_relaxation(void **state)
     assert_int_equal(run("test -e %s/0.1/fluid.vtu", c), 0);
 }
 
+/* Case c's pressureSource set to `value`: the solver refuses it, saying `why`. */
+static void source_refused(const char *c, const char *value, const char *why)
+{
+    assert_int_equal(
+        run("sed -i 's/^pressureSource .*/pressureSource %s/' %s/constant/fluidProperties", value,
+            c),
+        0);
+    assert_int_not_equal(run("%s/pcisph -case %s", bin_dir(), c), 0);
+    assert_non_null(strstr(output, why));
+}
+
 /* pressureSource's bad values stop the solver with file, line and keyword. */
 static void test_pressure_source_refusals(void **state)
 {
@@ -1138,42 +1149,14 @@ static void test_pressure_source_refusals(void **state)
     assert_non_null(strstr(output, "fluidProperties:"));
     assert_non_null(strstr(output, "keyword 'pressureSource'"));
     assert_non_null(strstr(output, "'divergense' is not one of: density divergence mixed"));
-    assert_int_equal(run("sed -i 's/^pressureSource .*/pressureSource { type divergence; "
-                         "densityWeight 0.1; }/' %s/constant/fluidProperties",
-                         c),
-                     0);
-    assert_int_not_equal(run("%s/pcisph -case %s", b, c), 0);
-    assert_non_null(strstr(output, "keyword 'densityWeight': is the weight of type mixed only"));
-    assert_int_equal(run("sed -i 's/^pressureSource .*/pressureSource { type mixed; "
-                         "densityWeight 1.5; }/' %s/constant/fluidProperties",
-                         c),
-                     0);
-    assert_int_not_equal(run("%s/pcisph -case %s", b, c), 0);
-    assert_non_null(strstr(output, "keyword 'densityWeight': must be"));
-    assert_int_equal(run("sed -i 's/^pressureSource .*/pressureSource { type divergence; "
-                         "warmStart maybe; }/' %s/constant/fluidProperties",
-                         c),
-                     0);
-    assert_int_not_equal(run("%s/pcisph -case %s", b, c), 0);
-    assert_non_null(strstr(output, "warmStart"));
-    assert_int_equal(run("sed -i 's/^pressureSource .*/pressureSource { type mixed; "
-                         "relaxation 0; }/' %s/constant/fluidProperties",
-                         c),
-                     0);
-    assert_int_not_equal(run("%s/pcisph -case %s", b, c), 0);
-    assert_non_null(strstr(output, "keyword 'relaxation': must be omega"));
-    assert_int_equal(run("sed -i 's/^pressureSource .*/pressureSource { type density; "
-                         "relaxation 1.5; }/' %s/constant/fluidProperties",
-                         c),
-                     0);
-    assert_int_not_equal(run("%s/pcisph -case %s", b, c), 0);
-    assert_non_null(strstr(output, "keyword 'relaxation': must be omega"));
-    assert_int_equal(run("sed -i 's/^pressureSource .*/pressureSource { type density; "
-                         "relaxation 0.5; warmStart on; }/' %s/constant/fluidProperties",
-                         c),
-                     0);
-    assert_int_not_equal(run("%s/pcisph -case %s", b, c), 0);
-    assert_non_null(strstr(output, "density takes no options but relaxation"));
+    source_refused(c, "{ type divergence; densityWeight 0.1; }",
+                   "keyword 'densityWeight': is the weight of type mixed only");
+    source_refused(c, "{ type mixed; densityWeight 1.5; }", "keyword 'densityWeight': must be");
+    source_refused(c, "{ type divergence; warmStart maybe; }", "warmStart");
+    source_refused(c, "{ type mixed; relaxation 0; }", "keyword 'relaxation': must be omega");
+    source_refused(c, "{ type density; relaxation 1.5; }", "keyword 'relaxation': must be omega");
+    source_refused(c, "{ type density; relaxation 0.5; warmStart on; }",
+                   "density takes no options but relaxation");
     assert_int_equal(run("sed -i 's/^pressureSource .*/pressureSource divergence;/' "
                          "%s/constant/fluidProperties && sed -i 's/^method .*/method "
                          "harada2007;/' %s/constant/boundaryProperties",
