@@ -541,9 +541,11 @@ static void read_fluid(sl_case *c)
     p->max_iter = (int)l;
     read_source(d, p, &c->mean_where);
     if (p->source != PCS_SOURCE_DENSITY && p->warm_start) {
-        /* a packing 2 % closer than the lattice: what a settled column's
-         * bottom and a wave's crests reach (doc/verification.md, "The
-         * relaxation of the pressure update") */
+        /* a packing 2 % closer than the lattice: a margin for the
+         * compression (eta) and the local disorder a run reaches; at 2.4
+         * r0 the mixed source stops at omega 1 and runs at 0.5
+         * (doc/verification.md, "The mixed source: a period that does not
+         * move with the step") */
         const double dl = p->relaxation * pcs_delta_lambda_max(p->kernel, p->support, 0.98);
         if (dl > 2.0)
             warn_value(d, "pressureSource",

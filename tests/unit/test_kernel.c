@@ -108,8 +108,8 @@ static void test_delta(void **state)
 }
 
 /* Why the warm-started pressure sources need pressureSource's relaxation
- * at 2.4 r0 (doc/verification.md, "The relaxation of the pressure
- * update"): on the cubic lattice delta lambda_max is 1.41 at 2 r0, 1.65
+ * at 2.4 r0 (doc/verification.md, "The mixed source: a period that
+ * does not move with the step"): on the cubic lattice delta lambda_max is 1.41 at 2 r0, 1.65
  * at 2.2 r0 and 1.97 at 2.4 r0 (at k r0 about 0.9 along the diagonal); 2 %
  * closer, 1.61 at 2 r0 and 2.22 at 2.4 r0, where the update grows its
  * largest modes (by 1.22 an iteration); Wendland C2 at 2.2 r0 1.52, 1.72.
