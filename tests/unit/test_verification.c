@@ -1047,7 +1047,7 @@ static void test_mixed_source_free_surface(void **state)
 }
 
 /* The mixed source's period does not move with the step (doc/verification.md,
- * "The mixed source: a period that does not fall with the step"): with
+ * "The mixed source: a period that does not move with the step"): with
  * Wendland C2 at 2.2 r0 (r0 0.01) +1.74 % at dt = r0 / 5 and +1.60 % at
  * r0 / 10 (measured; +0.40, +0.47 % at r0 0.005, +0.22, +0.12 % at
  * 0.00333, +0.30, +0.26 % at 0.0025), where the density source's moves
@@ -1095,7 +1095,8 @@ static void test_mixed_source_relaxation(void **state)
     const char *b = bin_dir();
     const char *c = OUT "/standingWave_mixedRelaxed";
     assert_int_equal(
-        run("rm -rf %s && %s/cloneCase " CASES "/standingWave/baseMixed %s && cd %s && "
+        run("rm -rf %s " OUT "/standingWave_mixedUnrelaxed && %s/cloneCase " CASES
+            "/standingWave/baseMixed %s && cd %s && "
             "%s/editDictionary constant/fluidProperties -entry particleSpacing -set "
             "0.0033333333333333335 && %s/editDictionary system/timeStepDict -entry deltaT -set "
             "0.0006666666666666666 && %s/editDictionary system/controlDict -entry endTime -set 0.1 "
