@@ -81,7 +81,9 @@ typedef struct pcs_params {
                           * compressed or wide-support packing's largest mode has
                           * delta lambda > 2, the iteration grows that mode, which a
                           * warm start carries from step to step (relaxed Jacobi,
-                          * IISPH's omega 0.5, damps it) */
+                          * IISPH's omega 0.5, damps it).  pcs_set_dt folds it into
+                          * delta, so initialPacking relaxed's steps (pcs_relax) use
+                          * it too */
 } pcs_params;
 
 enum { PCS_SOURCE_DENSITY = 0, PCS_SOURCE_DIVERGENCE = 1, PCS_SOURCE_MIXED = 2 };
