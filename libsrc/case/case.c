@@ -158,19 +158,13 @@ static void read_timestep(sl_case *c)
 
 /* The keys of constant/fluidProperties besides the effects' own entries
  * (effects/: eff_fluid_effects). */
-static const char *const fluid_keys[] = {"rho0",
-                                         "particleSpacing",
-                                         "gravity",
-                                         "eta",
-                                         "minIterations",
-                                         "maxIterations",
-                                         "fluidRegions",
-                                         "emitters",
-                                         "initialPacking",
-                                         "kernelSupport",
-                                         "pressureSource",
-                                         "kernel",
-                                         NULL};
+static const char *const fluid_keys[] = {"rho0",           "particleSpacing",
+                                         "gravity",        "eta",
+                                         "minIterations",  "maxIterations",
+                                         "fluidRegions",   "emitters",
+                                         "initialPacking", "kernelSupport",
+                                         "pressureSource", "pressureForce",
+                                         "kernel",         NULL};
 
 /* fluid_keys and the names of the effects of constant/fluidProperties. */
 static const char **fluid_and_effect_keys(void)
@@ -540,6 +534,14 @@ static void read_fluid(sl_case *c)
     }
     p->max_iter = (int)l;
     read_source(d, p, &c->mean_where);
+    /* pressureForce symmetric;  eq. (6) as the paper (default)
+     * pressureForce corrected;  eq. (6) times the kernel gradient correction
+     *                           L_i (Bonet & Lok 1999): a linear pressure's
+     *                           force is its gradient on any packing */
+    static const char *const forces[] = {"symmetric", "corrected", NULL};
+    const char *fname;
+    need(dict_get_word_or(d, "pressureForce", "symmetric", &fname, &err), &err);
+    p->force_correction = choose(d, "pressureForce", fname, forces);
     if (p->source != PCS_SOURCE_DENSITY && p->warm_start) {
         /* a packing 2 % closer than the lattice: a margin for the
          * compression (eta) and the local disorder a run reaches; at 2.4
@@ -741,6 +743,11 @@ static void read_boundary(sl_case *c)
         bad_value(d, "method",
                   "harada2007's wall weight has no divergence term: pressureSource divergence "
                   "and mixed (constant/fluidProperties) need ihmsen2010 or becker2009");
+    if (c->prm.force_correction && strcmp(c->prm.method->name, "ihmsen2010") != 0)
+        bad_value(d, "method",
+                  "pressureForce corrected (constant/fluidProperties) needs ihmsen2010: its "
+                  "correction is taken over the boundary particles, which only ihmsen2010's "
+                  "pressure force sums as the fluid's (eq. 13)");
     need(dict_get_scalar_or(d, "restitution", 0.0, &c->prm.restitution, &err), &err);
     if (!(c->prm.restitution >= 0.0 && c->prm.restitution <= 1.0))
         bad_value(d, "restitution", "must be in [0, 1]");

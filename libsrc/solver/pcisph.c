@@ -414,6 +414,7 @@ typedef struct pass_ctx {
     int source;       /* pressureSource (PCS_SOURCE_*) */
     double pmin;      /* the clamp of eq. (3)'s update: 0, or -HUGE_VAL with meanPressure */
     const double *lc; /* the gradient correction of each fluid particle (9 per particle) */
+    const double *lf; /* the same for the pressure force (pressureForce corrected), or NULL */
     const double *bx, *by, *bz, *bm;
     double *rho, *p, *pt, *err, *err_vol;
     double *apx, *apy, *apz;
@@ -450,6 +451,7 @@ static pass_ctx pass_begin(pcs_solver *s, const double *x, const double *y, cons
                   .source = s->prm.source,
                   .pmin = s->prm.hold_mean ? -HUGE_VAL : 0.0,
                   .lc = s->prm.grad_correction ? s->lcorr : NULL,
+                  .lf = s->prm.force_correction ? s->lcorr : NULL,
                   .bx = b->x,
                   .by = b->y,
                   .bz = b->z,
@@ -560,7 +562,8 @@ predict_one(const pass_ctx *c, size_t i, const int wall, const wall_density_fn w
 }
 
 /* Pressure force per unit mass on fluid particle i, eq. (6): its fluid
- * neighbours, then the wall's term of the method. */
+ * neighbours, then the wall's term of the method; with pressureForce
+ * corrected the sum times L_i (every term is a multiple of grad W_ij). */
 static inline __attribute__((always_inline)) void pressure_one(const pass_ctx *c, size_t i,
                                                                const wall_pressure_fn wall_term)
 {
@@ -569,6 +572,13 @@ static inline __attribute__((always_inline)) void pressure_one(const pass_ctx *c
     sph_sum_pressure(c->k, c->ffi, c->ffs[i], c->ffs[i + 1], xi, yi, zi, c->pt[i], c->x, c->y, c->z,
                      c->pt, NULL, c->m, a);
     wall_term(&c->bp, i, xi, yi, zi, c->pt[i], a);
+    if (c->lf) {
+        const double *L = c->lf + 9 * i;
+        c->apx[i] = L[0] * a[0] + L[1] * a[1] + L[2] * a[2];
+        c->apy[i] = L[3] * a[0] + L[4] * a[1] + L[5] * a[2];
+        c->apz[i] = L[6] * a[0] + L[7] * a[1] + L[8] * a[2];
+        return;
+    }
     c->apx[i] = a[0];
     c->apy[i] = a[1];
     c->apz[i] = a[2];
@@ -925,7 +935,7 @@ static void ensure_scratch(pcs_solver *s)
             sl_free_aligned(s->ap_best);
             s->ap_best = sl_alloc_aligned(3 * s->f->cap * sizeof *s->ap_best, "pressure force");
         }
-        if (s->prm.grad_correction) {
+        if (s->prm.grad_correction || s->prm.force_correction) {
             sl_free_aligned(s->lcorr);
             s->lcorr = sl_alloc_aligned(9 * s->f->cap * sizeof *s->lcorr, "gradient correction");
         }
@@ -1171,7 +1181,7 @@ static void warm_start(pcs_solver *s)
     PHASE(s, pressure, s->passes->pressure(s));
 }
 
-/* pressureSource divergence: the kernel gradient correction of each fluid
+/* pressureSource gradientCorrection, pressureForce corrected: the kernel gradient correction of each fluid
  * particle at x(t), L_i = (sum_j V_j grad W_ij (x_j - x_i)^T)^-1 over its
  * fluid and boundary neighbours (V_j = m_j / rho0; Bonet & Lok 1999), the
  * identity where the sum is near singular (a deficient neighbourhood). */
@@ -1210,10 +1220,9 @@ static void gradient_correction(pcs_solver *s)
  * most maxIterations). */
 static void pressure_solve(pcs_solver *s, pcs_stats *st)
 {
-    if (s->prm.source != PCS_SOURCE_DENSITY) {
-        if (s->prm.grad_correction) gradient_correction(s);
-        if (s->prm.warm_start) warm_start(s);
-    }
+    if ((s->prm.source != PCS_SOURCE_DENSITY && s->prm.grad_correction) || s->prm.force_correction)
+        gradient_correction(s);
+    if (s->prm.source != PCS_SOURCE_DENSITY && s->prm.warm_start) warm_start(s);
     pcs_guard g = {s->prm.max_iter > s->prm.min_iter && pcs_fluid_total(s) > 0, HUGE_VAL};
     double emax;
     int k = 0;

@@ -71,6 +71,12 @@ typedef struct pcs_params {
     int grad_correction;  /* divergence, mixed: the density change with the kernel gradient
                           * correction L_i of Bonet & Lok 1999 (exact for a linear
                           * velocity field on any packing) */
+    int force_correction; /* pressureForce corrected: the pressure force of eq. (6) times
+                          * the same L_i (at x(t)), so that the force of a linear
+                          * pressure field is its gradient on any packing and with any
+                          * kernel's lattice moment (Wendland C2's 2.3 % deficit at
+                          * 2.2 r0); not conservative: the pairs' forces no longer
+                          * cancel */
     int hold_mean;        /* divergence (meanPressure): pressures not clamped at zero and
                           * their mean over the fluid held at mean_pressure after every
                           * update; for a box without a free surface, where the
@@ -211,7 +217,7 @@ struct pcs_solver {
     double *p_block;   /* meanPressure: the pressure's sums by blocks (scratch) */
     size_t err_cap;
     double *ap_best; /* pressure force of the best iteration (3 x cap) */
-    double *lcorr;   /* pressureSource divergence: the kernel gradient correction (9 x cap) */
+    double *lcorr;   /* gradientCorrection, pressureForce corrected: L_i (9 x cap) */
     pcs_timers time;
     eff_set *eff;        /* the case's effects (not owned; may be NULL) */
     eff_instance **dens; /* its EFF_DENSITY effects */

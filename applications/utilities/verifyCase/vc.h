@@ -39,6 +39,7 @@ typedef struct vc_setup {
     vc_kind kind;
     double nu, amplitude, length, from, tolerance; /* tolerance < 0: none */
     double rho0, r0, g[3], gmag;
+    double support;           /* the kernel's support radius h (m) */
     double lo[3], hi[3];      /* the container's inner walls */
     const mot_motion *motion; /* the container's, or NULL */
     size_t nfluid;
@@ -55,6 +56,9 @@ typedef struct vc_sample {
     double vrms;   /* rms speed against the exact velocity (m/s) */
     double ke;     /* kinetic energy per unit mass (m^2/s^2) */
     double height; /* the highest particle + r0/2 (m) */
+    double grad;   /* hydrostatic: the least-squares slope of p(z) over the particles more
+                         than h above the floor and below the highest one, over rho0 g,
+                         less 1 (the pressure gradient's error, free of the level) */
     double mode;   /* standingWave: the velocity's projection on the linear mode
                          (m/s; A w cos(w t) for the exact answer); taylorGreen: on
                          the vortex's shape (m/s; U exp(-2 nu k^2 t) exactly) */

@@ -72,6 +72,7 @@ void vc_read(vc_setup *s, const sl_case *c)
     if (dict_has(d, "tolerance")) dict_need_positive(d, "tolerance", s->tolerance);
     s->rho0 = c->prm.rho0;
     s->r0 = c->prm.r0;
+    s->support = c->prm.support * c->prm.r0;
     memcpy(s->g, c->prm.gravity, sizeof s->g);
     s->gmag = sqrt(s->g[0] * s->g[0] + s->g[1] * s->g[1] + s->g[2] * s->g[2]);
     find_container(s, c, d);
@@ -156,6 +157,30 @@ static double profile_error(const vc_setup *s, const sl_fluid *f)
     return m > 0.0 ? sqrt(e / m) / (pg * H) : (double)NAN;
 }
 
+/* The pressure gradient's error: the least-squares slope of p against z
+ * over the particles whose kernel reaches neither the floor nor above the
+ * highest particle (h above the one, h below the other), over -rho0 g,
+ * less 1.  The profile error mixes the gradient with the pressure's level
+ * (the free surface's); this is the gradient alone. */
+static double gradient_error(const vc_setup *s, const sl_fluid *f, double top)
+{
+    const double lo = s->lo[2] + s->support, hi = top - s->support;
+    double n = 0.0, sz = 0.0, sp = 0.0, szz = 0.0, szp = 0.0;
+    for (size_t i = 0; i < f->n; i++) {
+        const double z = f->z[i];
+        if (!(z > lo && z < hi)) continue;
+        n += 1.0;
+        sz += z;
+        sp += f->p[i];
+        szz += z * z;
+        szp += z * f->p[i];
+    }
+    const double var = szz - sz * sz / n;
+    if (!(n >= 3.0 && var > 0.0)) return (double)NAN;
+    const double slope = (szp - sz * sp / n) / var;
+    return -slope / (s->rho0 * s->gmag) - 1.0;
+}
+
 void vc_measure(const vc_setup *s, const sl_fluid *f, double t, vc_sample *out)
 {
     const double H = s->depth, pg = s->rho0 * s->gmag;
@@ -198,6 +223,7 @@ void vc_measure(const vc_setup *s, const sl_fluid *f, double t, vc_sample *out)
     out->vrms = sqrt(sv / n);
     out->ke = ke / n;
     out->mode = mm > 0.0 ? pm / mm : (double)NAN;
+    out->grad = (double)NAN;
     out->height = top + 0.5 * s->r0 - s->lo[2];
     out->perr =
         (s->kind == VC_HYDROSTATIC || s->kind == VC_TRANSLATING || s->kind == VC_WAVE) && H > 0.0
@@ -210,6 +236,7 @@ void vc_measure(const vc_setup *s, const sl_fluid *f, double t, vc_sample *out)
     switch (s->kind) {
     case VC_HYDROSTATIC:
         out->err = profile_error(s, f);
+        out->grad = gradient_error(s, f, top);
         break;
     case VC_TRANSLATING:
         out->err = out->vrms / sqrt(s->gmag * H);

@@ -204,7 +204,7 @@ static void wave_fit(const vc_sample *s, size_t n, double T, double rate, double
  * results (e.g. postProcessing/verifyCase/summary.dat:error). */
 static void write_summary(const sl_case *c, const vc_setup *s, double error, double perr,
                           double vrms, double wall, long steps, double reached,
-                          const double decay[3], const vc_wave_fit *fit, double Te)
+                          const double decay[3], const vc_wave_fit *fit, double Te, double gerr)
 {
     const double nan = (double)NAN, ft = fit ? fit->period : nan, fd = fit ? fit->decay : nan;
     sl_err err;
@@ -226,15 +226,17 @@ static void write_summary(const sl_case *c, const vc_setup *s, double error, dou
             "#   fitDecayError as decayError, fitResidual the residual rms over A\n"
             "# pressureError: the last written time's (taylorGreen: the rms of p against the\n"
             "#   exact pressure, each up to its mean, over rho0 U^2)\n"
+            "# gradientError: hydrostatic's pressure gradient error, the mean over the times\n"
+            "#   of the slope of p(z) more than h from the floor and the top, over rho0 g, less 1\n"
             "# error\tpressureError\tvelocityRms\tparticles\tr0\twallTime\tsteps\treached"
             "\tdecayRate\tdecayExact\tdecayError\tperiodFit\tperiodFitSigma\tfitError"
-            "\tdecayFit\tdecayFitSigma\tfitDecayError\tfitResidual\n",
+            "\tdecayFit\tdecayFitSigma\tfitDecayError\tfitResidual\tgradientError\n",
             vc_kind_names[s->kind]);
     fprintf(f, "%.8g\t%.8g\t%.8g\t%zu\t%g\t%.6g\t%ld\t%.6g\t%.8g\t%.8g\t%.8g", error, perr, vrms,
             s->nfluid, s->r0, wall, steps, reached, decay[0], decay[1], decay[2]);
-    fprintf(f, "\t%.8g\t%.4g\t%.8g\t%.8g\t%.4g\t%.8g\t%.4g\n", ft, fit ? fit->dperiod : nan,
+    fprintf(f, "\t%.8g\t%.4g\t%.8g\t%.8g\t%.4g\t%.8g\t%.4g\t%.8g\n", ft, fit ? fit->dperiod : nan,
             fabs(ft - Te) / Te, fd, fit ? fit->ddecay : nan,
-            s->nu > 0.0 ? fabs(fd - decay[1]) / decay[1] : nan, fit ? fit->residual : nan);
+            s->nu > 0.0 ? fabs(fd - decay[1]) / decay[1] : nan, fit ? fit->residual : nan, gerr);
     if (fclose(f)) sl_fatal("cannot write '%s'", path);
 }
 
@@ -260,10 +262,11 @@ int main(int argc, char **argv)
                  c.dir);
     vc_sample *smp = sl_malloc(times.n * sizeof *smp, "samples");
     const double area = (s.hi[0] - s.lo[0]) * (s.hi[1] - s.lo[1]);
-    double worst = 0.0, mean = 0.0;
+    double worst = 0.0, mean = 0.0, gmean = 0.0;
     size_t counted = 0;
     if (!quiet)
-        printf("# %s: %s\n# time\terror\tpressureError\tvelocityRms\tkineticEnergy\theight\tmode\n",
+        printf("# %s: %s\n# time\terror\tpressureError\tvelocityRms\tkineticEnergy\theight\tmode"
+               "\tgradientError\n",
                c.dir, vc_kind_names[s.kind]);
     for (size_t i = 0; i < times.n; i++) {
         fo_snapshot sn;
@@ -273,20 +276,28 @@ int main(int argc, char **argv)
         vc_measure(&s, &sn.f, times.time[i], &smp[i]);
         fo_snapshot_free(&sn);
         if (!quiet)
-            printf("%s\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\n", times.name[i], smp[i].err,
-                   smp[i].perr, smp[i].vrms, smp[i].ke, smp[i].height, smp[i].mode);
+            printf("%s\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\n", times.name[i], smp[i].err,
+                   smp[i].perr, smp[i].vrms, smp[i].ke, smp[i].height, smp[i].mode, smp[i].grad);
         if (times.time[i] >= s.from - 1e-9 && isfinite(smp[i].err)) {
             worst = fmax(worst, smp[i].err);
             mean += smp[i].err;
+            gmean += smp[i].grad;
             counted++;
         }
     }
     double error = worst, decay[3] = {NAN, NAN, NAN}, Te = NAN;
     vc_wave_fit fit = {.ok = 0};
     const char *what = "largest over the times";
+    if (s.kind != VC_HYDROSTATIC) gmean = (double)NAN;
     if (s.kind == VC_HYDROSTATIC || s.kind == VC_TRANSLATING) {
         error = counted ? mean / (double)counted : (double)NAN;
         what = "mean over the times";
+        gmean = counted ? gmean / (double)counted : (double)NAN;
+        if (s.kind == VC_HYDROSTATIC)
+            printf("# pressure gradient error %.6g (mean over the times: the slope of p(z) "
+                   "more than h = %g m from the floor and the highest particle, over rho0 g, "
+                   "less 1)\n",
+                   gmean, s.support);
     } else if (s.kind == VC_WAVE) {
         Te = vc_wave_period(s.gmag, vc_wave_length(&s), s.depth);
         double *tc = sl_malloc(times.n * sizeof *tc, "crossings");
@@ -339,7 +350,7 @@ int main(int argc, char **argv)
                    "of the times written",
                    c.dir, last, c.ctl.end_time);
     write_summary(&c, &s, error, smp[times.n - 1].perr, smp[times.n - 1].vrms, wall, steps, reached,
-                  decay, s.kind == VC_WAVE ? &fit : NULL, Te);
+                  decay, s.kind == VC_WAVE ? &fit : NULL, Te, gmean);
     if (table) {
         const char *label = app_string(&a, "label", NULL);
         if (!label) {
