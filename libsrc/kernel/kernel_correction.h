@@ -48,4 +48,17 @@ static inline int krn_correction_invert(const double A[9], double L[9])
     return 1;
 }
 
+/* How isotropic A is: det A / (tr A / 3)^3, 1 for a multiple of the
+ * identity (a full neighbourhood on any isotropic packing), smaller the
+ * more one direction lacks neighbours (a free surface of the cubic
+ * lattice: 0.92-0.94 for the kernels and supports in use); 0 for
+ * a singular or indefinite A. */
+static inline double krn_correction_isotropy(const double A[9])
+{
+    const double det = A[0] * (A[4] * A[8] - A[5] * A[7]) + A[1] * (A[5] * A[6] - A[3] * A[8]) +
+        A[2] * (A[3] * A[7] - A[4] * A[6]);
+    const double t = (A[0] + A[4] + A[8]) / 3.0;
+    return det > 0.0 && t > 0.0 ? det / (t * t * t) : 0.0;
+}
+
 #endif

@@ -415,6 +415,7 @@ typedef struct pass_ctx {
     double pmin;      /* the clamp of eq. (3)'s update: 0, or -HUGE_VAL with meanPressure */
     const double *lc; /* the gradient correction of each fluid particle (9 per particle) */
     const double *lf; /* the same for the pressure force (pressureForce corrected), or NULL */
+    const unsigned char *lin; /* with lf: 1 where it corrects (an isotropic neighbourhood) */
     const double *bx, *by, *bz, *bm;
     double *rho, *p, *pt, *err, *err_vol;
     double *apx, *apy, *apz;
@@ -452,6 +453,7 @@ static pass_ctx pass_begin(pcs_solver *s, const double *x, const double *y, cons
                   .pmin = s->prm.hold_mean ? -HUGE_VAL : 0.0,
                   .lc = s->prm.grad_correction ? s->lcorr : NULL,
                   .lf = s->prm.force_correction ? s->lcorr : NULL,
+                  .lin = s->linterior,
                   .bx = b->x,
                   .by = b->y,
                   .bz = b->z,
@@ -563,7 +565,8 @@ predict_one(const pass_ctx *c, size_t i, const int wall, const wall_density_fn w
 
 /* Pressure force per unit mass on fluid particle i, eq. (6): its fluid
  * neighbours, then the wall's term of the method; with pressureForce
- * corrected the sum times L_i (every term is a multiple of grad W_ij). */
+ * corrected the sum times L_i where its neighbourhood is isotropic (every
+ * term is a multiple of grad W_ij). */
 static inline __attribute__((always_inline)) void pressure_one(const pass_ctx *c, size_t i,
                                                                const wall_pressure_fn wall_term)
 {
@@ -572,7 +575,7 @@ static inline __attribute__((always_inline)) void pressure_one(const pass_ctx *c
     sph_sum_pressure(c->k, c->ffi, c->ffs[i], c->ffs[i + 1], xi, yi, zi, c->pt[i], c->x, c->y, c->z,
                      c->pt, NULL, c->m, a);
     wall_term(&c->bp, i, xi, yi, zi, c->pt[i], a);
-    if (c->lf) {
+    if (c->lf && c->lin[i]) {
         const double *L = c->lf + 9 * i;
         c->apx[i] = L[0] * a[0] + L[1] * a[1] + L[2] * a[2];
         c->apy[i] = L[3] * a[0] + L[4] * a[1] + L[5] * a[2];
@@ -896,6 +899,7 @@ void pcs_free(pcs_solver *s)
     sl_free_aligned(s->err_vol);
     sl_free_aligned(s->ap_best);
     sl_free_aligned(s->lcorr);
+    sl_free_aligned(s->linterior);
     if (s->prm.method && s->prm.method->free) s->prm.method->free(s->bstate);
     free(s->dens);
     dom_halo_free(&s->halo);
@@ -938,6 +942,11 @@ static void ensure_scratch(pcs_solver *s)
         if (s->prm.grad_correction || s->prm.force_correction) {
             sl_free_aligned(s->lcorr);
             s->lcorr = sl_alloc_aligned(9 * s->f->cap * sizeof *s->lcorr, "gradient correction");
+        }
+        if (s->prm.force_correction) {
+            sl_free_aligned(s->linterior);
+            s->linterior =
+                sl_alloc_aligned(s->f->cap * sizeof *s->linterior, "gradient correction");
         }
         if (!s->prm.method->wall_density) {
             sl_free_aligned(s->err_vol);
@@ -1184,7 +1193,9 @@ static void warm_start(pcs_solver *s)
 /* pressureSource gradientCorrection, pressureForce corrected: the kernel gradient correction of each fluid
  * particle at x(t), L_i = (sum_j V_j grad W_ij (x_j - x_i)^T)^-1 over its
  * fluid and boundary neighbours (V_j = m_j / rho0; Bonet & Lok 1999), the
- * identity where the sum is near singular (a deficient neighbourhood). */
+ * identity where the sum is near singular (a deficient neighbourhood);
+ * with pressureForce corrected also whether the force takes it (an
+ * isotropic A_i, PCS_FORCE_ISOTROPY). */
 static void gradient_correction(pcs_solver *s)
 {
     const sl_fluid *f = s->f;
@@ -1211,7 +1222,10 @@ static void gradient_correction(pcs_solver *s)
                                    krn_gradf(&k, sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2])),
                                r);
         }
-        krn_correction_invert(A, lc + 9 * i);
+        const int corrects = krn_correction_invert(A, lc + 9 * i);
+        if (s->linterior)
+            s->linterior[i] =
+                (unsigned char)(corrects && krn_correction_isotropy(A) >= PCS_FORCE_ISOTROPY);
     }
 }
 

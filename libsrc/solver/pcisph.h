@@ -72,11 +72,12 @@ typedef struct pcs_params {
                           * correction L_i of Bonet & Lok 1999 (exact for a linear
                           * velocity field on any packing) */
     int force_correction; /* pressureForce corrected: the pressure force of eq. (6) times
-                          * the same L_i (at x(t)), so that the force of a linear
+                          * the same L_i (at x(t)) where the neighbourhood is isotropic
+                          * (PCS_FORCE_ISOTROPY), so that there the force of a linear
                           * pressure field is its gradient on any packing and with any
-                          * kernel's lattice moment (Wendland C2's 2.3 % deficit at
-                          * 2.2 r0); not conservative: the pairs' forces no longer
-                          * cancel */
+                          * kernel's moment (Wendland C2's deficit at 2.2 r0); next to
+                          * a free surface the paper's force.  Not conservative: the
+                          * pairs' forces no longer cancel */
     int hold_mean;        /* divergence (meanPressure): pressures not clamped at zero and
                           * their mean over the fluid held at mean_pressure after every
                           * update; for a box without a free surface, where the
@@ -93,6 +94,18 @@ typedef struct pcs_params {
 } pcs_params;
 
 enum { PCS_SOURCE_DENSITY = 0, PCS_SOURCE_DIVERGENCE = 1, PCS_SOURCE_MIXED = 2 };
+
+/* pressureForce corrected: L_i corrects particle i's pressure force where
+ * its moment matrix A_i (kernel_correction.h) is isotropic, det A_i /
+ * (tr A_i / 3)^3 >= this (1 for an isotropic A_i; on the cubic lattice
+ * a free surface's particles, whose kernel lacks the fluid above, 0.922
+ * with Wendland C2 at 2.2 r0, 0.917 and 0.935 with the cubic spline at 2
+ * and 2.4 r0, the layer below 0.999-1).  Amplified
+ * there, the surface layers' force held the column with a pressure too low
+ * by about 0.7 r0 of water (hydrostaticTank: a threshold of 0.9 0.0163, 0.95
+ * 0.0064, 0.98 0.0069 at r0 0.005; doc/verification.md, "The pressure
+ * force corrected"). */
+#define PCS_FORCE_ISOTROPY 0.95
 
 /* The compiled defaults (equal to the annotated files of etc/caseDicts;
  * rho0 and r0, which a case must give, are 0). */
@@ -216,8 +229,10 @@ struct pcs_solver {
     double *vol_block; /* its sums by blocks of SL_REDUCE_BLOCK (the last prediction) */
     double *p_block;   /* meanPressure: the pressure's sums by blocks (scratch) */
     size_t err_cap;
-    double *ap_best; /* pressure force of the best iteration (3 x cap) */
-    double *lcorr;   /* gradientCorrection, pressureForce corrected: L_i (9 x cap) */
+    double *ap_best;          /* pressure force of the best iteration (3 x cap) */
+    double *lcorr;            /* gradientCorrection, pressureForce corrected: L_i (9 x cap) */
+    unsigned char *linterior; /* pressureForce corrected: 1 where L_i corrects the force
+                               * (an isotropic neighbourhood, PCS_FORCE_ISOTROPY) */
     pcs_timers time;
     eff_set *eff;        /* the case's effects (not owned; may be NULL) */
     eff_instance **dens; /* its EFF_DENSITY effects */
