@@ -258,6 +258,26 @@ static void test_pressure_source(void **state)
     assert_int_equal(system("grep -q 'halo mode' tests/output/parSrcMix2/log.pcisph"), 0);
 }
 
+/* pressureForce corrected (the pressure force times L_i where the
+ * neighbourhood is isotropic, solver/pcisph.h) on 3 ranks of the domain
+ * mode: the serial files; and the correction is in use (not the symmetric
+ * force's files, parDamSerial of test_dam_break_np123). */
+static void test_pressure_force_corrected(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    char edit[2048];
+    snprintf(edit, sizeof edit, "%s && echo 'pressureForce corrected;' >> constant/fluidProperties",
+             dam);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parForceSerial", edit, 0), 0);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parForce3", edit, 3), 0);
+    same_output("parForceSerial", "parForce3");
+    assert_int_equal(system("grep -q 'domain mode' tests/output/parForce3/log.pcisph"), 0);
+    assert_int_not_equal(system("cmp -s tests/output/parForceSerial/0.04/fluid.vtu "
+                                "tests/output/parDamSerial/0.04/fluid.vtu"),
+                         0);
+}
+
 static void test_ranks_times_threads(void **state)
 {
     (void)state;
@@ -1152,6 +1172,7 @@ int main(void)
         cmocka_unit_test(test_dam_break_np123),
         cmocka_unit_test(test_streamed_output),
         cmocka_unit_test(test_pressure_source),
+        cmocka_unit_test(test_pressure_force_corrected),
         cmocka_unit_test(test_ranks_times_threads),
         cmocka_unit_test(test_gather_and_halo_modes),
         cmocka_unit_test(test_boundary_methods),
