@@ -1179,6 +1179,16 @@ static void source_refused(const char *c, const char *value, const char *why)
     assert_non_null(strstr(output, why));
 }
 
+/* The sed edit `sed` of c's constant/fluidProperties stops the solver
+ * with `why` in its message and nothing written. */
+static void fluid_refused(const char *c, const char *sed, const char *why)
+{
+    assert_int_equal(run("sed -i '%s' %s/constant/fluidProperties", sed, c), 0);
+    assert_int_not_equal(run("%s/pcisph -case %s", bin_dir(), c), 0);
+    assert_non_null(strstr(output, why));
+    assert_int_not_equal(run("test -e %s/0", c), 0);
+}
+
 /* pressureSource's and pressureForce's bad values stop the solver with file,
  * line and keyword. */
 static void test_pressure_source_refusals(void **state)
@@ -1211,22 +1221,12 @@ static void test_pressure_source_refusals(void **state)
     assert_non_null(strstr(output, "boundaryProperties:"));
     assert_non_null(strstr(output, "keyword 'method': harada2007"));
     assert_int_not_equal(run("test -e %s/0", c), 0); /* nothing written */
-    /* pressureForce: symmetric or corrected, nothing else */
-    assert_int_equal(run("sed -i 's/^pressureSource .*/pressureForce corected;/' "
-                         "%s/constant/fluidProperties",
-                         c),
-                     0);
-    assert_int_not_equal(run("%s/pcisph -case %s", b, c), 0);
-    assert_non_null(strstr(output, "keyword 'pressureForce'"));
-    assert_non_null(strstr(output, "'corected' is not one of: symmetric corrected"));
-    assert_int_not_equal(run("test -e %s/0", c), 0);
-    assert_int_equal(
-        run("sed -i 's/^pressureForce .*/pressureForce corrected;/' %s/constant/fluidProperties",
-            c),
-        0);
-    assert_int_not_equal(run("%s/pcisph -case %s", b, c), 0); /* the case's harada2007 */
-    assert_non_null(strstr(output, "keyword 'method': pressureForce corrected"));
-    assert_int_not_equal(run("test -e %s/0", c), 0);
+    /* pressureForce: symmetric or corrected, nothing else; corrected with ihmsen2010 only
+     * (the case's method is still harada2007) */
+    fluid_refused(c, "s/^pressureSource .*/pressureForce corected;/",
+                  "keyword 'pressureForce': 'corected' is not one of: symmetric corrected");
+    fluid_refused(c, "s/^pressureForce .*/pressureForce corrected;/",
+                  "keyword 'method': pressureForce corrected");
 }
 
 /* ---- verifyCase refuses what it cannot judge ---------------------------------- */
