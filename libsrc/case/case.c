@@ -536,8 +536,9 @@ static void read_fluid(sl_case *c)
     read_source(d, p, &c->mean_where);
     /* pressureForce symmetric;  eq. (6) as the paper (default)
      * pressureForce corrected;  eq. (6) times the kernel gradient correction
-     *                           L_i (Bonet & Lok 1999): a linear pressure's
-     *                           force is its gradient on any packing */
+     *                           L_i (Bonet & Lok 1999) where the neighbourhood
+     *                           is isotropic: there a linear pressure's force
+     *                           is its gradient on any packing */
     static const char *const forces[] = {"symmetric", "corrected", NULL};
     const char *fname;
     need(dict_get_word_or(d, "pressureForce", "symmetric", &fname, &err), &err);

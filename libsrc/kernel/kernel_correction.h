@@ -24,6 +24,13 @@ static inline void krn_correction_add(double A[9], double vg, const double r[3])
         for (int c = 0; c < 3; c++) A[3 * a + c] -= vg * r[a] * r[c];
 }
 
+/* det A (row-major 3 x 3). */
+static inline double krn_det3(const double A[9])
+{
+    return A[0] * (A[4] * A[8] - A[5] * A[7]) + A[1] * (A[5] * A[6] - A[3] * A[8]) +
+        A[2] * (A[3] * A[7] - A[4] * A[6]);
+}
+
 /* L = A^-1 (row-major), the identity where det A <= 1/8; returns whether
  * it corrects. */
 static inline int krn_correction_invert(const double A[9], double L[9])
@@ -55,9 +62,7 @@ static inline int krn_correction_invert(const double A[9], double L[9])
  * a singular or indefinite A. */
 static inline double krn_correction_isotropy(const double A[9])
 {
-    const double det = A[0] * (A[4] * A[8] - A[5] * A[7]) + A[1] * (A[5] * A[6] - A[3] * A[8]) +
-        A[2] * (A[3] * A[7] - A[4] * A[6]);
-    const double t = (A[0] + A[4] + A[8]) / 3.0;
+    const double det = krn_det3(A), t = (A[0] + A[4] + A[8]) / 3.0;
     return det > 0.0 && t > 0.0 ? det / (t * t * t) : 0.0;
 }
 

@@ -288,11 +288,10 @@ int main(int argc, char **argv)
     double error = worst, decay[3] = {NAN, NAN, NAN}, Te = NAN;
     vc_wave_fit fit = {.ok = 0};
     const char *what = "largest over the times";
-    if (s.kind != VC_HYDROSTATIC) gmean = (double)NAN;
+    gmean = s.kind == VC_HYDROSTATIC && counted ? gmean / (double)counted : (double)NAN;
     if (s.kind == VC_HYDROSTATIC || s.kind == VC_TRANSLATING) {
         error = counted ? mean / (double)counted : (double)NAN;
         what = "mean over the times";
-        gmean = counted ? gmean / (double)counted : (double)NAN;
         if (s.kind == VC_HYDROSTATIC)
             printf("# pressure gradient error %.6g (mean over the times: the slope of p(z) "
                    "more than h = %g m from the floor and the highest particle, over rho0 g, "
