@@ -37,7 +37,7 @@ static inline int krn_correction_invert(const double A[9], double L[9])
 {
     const double c00 = A[4] * A[8] - A[5] * A[7], c01 = A[5] * A[6] - A[3] * A[8],
                  c02 = A[3] * A[7] - A[4] * A[6];
-    const double det = A[0] * c00 + A[1] * c01 + A[2] * c02;
+    const double det = krn_det3(A);
     if (!(det > 0.125)) { /* a deficient neighbourhood: no correction */
         for (int a = 0; a < 9; a++) L[a] = (a % 4 == 0) ? 1.0 : 0.0;
         return 0;

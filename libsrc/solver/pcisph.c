@@ -1190,10 +1190,11 @@ static void warm_start(pcs_solver *s)
     PHASE(s, pressure, s->passes->pressure(s));
 }
 
-/* pressureSource gradientCorrection, pressureForce corrected: the kernel gradient correction of each fluid
- * particle at x(t), L_i = (sum_j V_j grad W_ij (x_j - x_i)^T)^-1 over its
- * fluid and boundary neighbours (V_j = m_j / rho0; Bonet & Lok 1999), the
- * identity where the sum is near singular (a deficient neighbourhood);
+/* pressureSource gradientCorrection, pressureForce corrected: the kernel
+ * gradient correction of each fluid particle at x(t),
+ * L_i = (sum_j V_j grad W_ij (x_j - x_i)^T)^-1 over its fluid and
+ * boundary neighbours (V_j = m_j / rho0; Bonet & Lok 1999), the identity
+ * where the sum is near singular (a deficient neighbourhood);
  * with pressureForce corrected also whether the force takes it (an
  * isotropic A_i, PCS_FORCE_ISOTROPY). */
 static void gradient_correction(pcs_solver *s)
