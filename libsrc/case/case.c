@@ -538,8 +538,11 @@ static void read_fluid(sl_case *c)
      * pressureForce corrected;  eq. (6) times the kernel gradient correction
      *                           L_i (Bonet & Lok 1999) where the neighbourhood
      *                           is isotropic: there a linear pressure's force
-     *                           is its gradient on any packing */
-    static const char *const forces[] = {"symmetric", "corrected", NULL};
+     *                           is its gradient on any packing
+     * pressureForce correctedConservative;  each pair's term times
+     *                           (L_i + L_j) / 2: momentum conserved
+     * (the order of PCS_FORCE_*) */
+    static const char *const forces[] = {"symmetric", "corrected", "correctedConservative", NULL};
     const char *fname;
     need(dict_get_word_or(d, "pressureForce", "symmetric", &fname, &err), &err);
     p->force_correction = choose(d, "pressureForce", fname, forces);
@@ -746,7 +749,8 @@ static void read_boundary(sl_case *c)
                   "and mixed (constant/fluidProperties) need ihmsen2010 or becker2009");
     if (c->prm.force_correction && strcmp(c->prm.method->name, "ihmsen2010") != 0)
         bad_value(d, "method",
-                  "pressureForce corrected (constant/fluidProperties) needs ihmsen2010: its "
+                  "pressureForce corrected and correctedConservative (constant/fluidProperties) "
+                  "need ihmsen2010: their "
                   "correction is taken over the boundary particles, which only ihmsen2010's "
                   "pressure force sums as the fluid's (eq. 13)");
     need(dict_get_scalar_or(d, "restitution", 0.0, &c->prm.restitution, &err), &err);

@@ -305,6 +305,13 @@ void dom_refresh_predicted(const dom_halo *hl, sl_fluid *f)
     }
 }
 
+void dom_refresh_rows(const dom_halo *hl, size_t n, double *a, int width)
+{
+    const size_t w = (size_t)width;
+#pragma omp parallel for schedule(static)
+    for (size_t k = 0; k < hl->n; k++) memcpy(a + w * (n + k), a + w * hl->src[k], w * sizeof *a);
+}
+
 void dom_refresh_pressure(const dom_halo *hl, sl_fluid *f, sl_boundary *b)
 {
     const size_t n = f->n;

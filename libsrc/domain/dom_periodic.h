@@ -96,6 +96,10 @@ void dom_boundary_images_mass(dom_halo *hl, const nbr_grid *g, const krn_kernel 
 void dom_fluid_images(dom_halo *hl, nbr_grid *g, sl_fluid *f, const sl_boundary *b);
 /* Each iteration: the images' predicted positions from their originals. */
 void dom_refresh_predicted(const dom_halo *hl, sl_fluid *f);
+/* Rows of width doubles per fluid particle (a[width * i ...]): the
+ * images' from their originals (n = f->n: the first image's row), as
+ * they are, for a quantity a translation leaves unchanged. */
+void dom_refresh_rows(const dom_halo *hl, size_t n, double *a, int width);
 /* Each iteration: density, pressure and p / rho^2 of fluid and boundary
  * images from their originals. */
 void dom_refresh_pressure(const dom_halo *hl, sl_fluid *f, sl_boundary *b);

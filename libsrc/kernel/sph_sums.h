@@ -286,6 +286,82 @@ static inline void sph_sum_pressure(const krn_kernel k, const uint32_t *restrict
                           a);
 }
 
+/* The pairs' terms f_j = -(pi + pt_j) grad W(p - x_j) of eq. (6) (per unit
+ * mass of the neighbours): s += sum_j f_j and t += sum_j L_j f_j, L_j the
+ * 3 x 3 matrix at L + 9 j, row-major (pressureForce correctedConservative,
+ * solver/pcisph.c: each pair's term times (L_i + L_j) / 2). */
+SPH__INLINE void sph__sum_pressure_pairs(int type, const krn_kernel k, const uint32_t *restrict idx,
+                                         uint32_t q0, uint32_t q1, double px, double py, double pz,
+                                         double pi, const double *restrict x,
+                                         const double *restrict y, const double *restrict z,
+                                         const double *restrict pt, const double *restrict L,
+                                         double s[3], double t[3])
+{
+#if SPH_SUMS_AVX512
+    const __m512d vx = _mm512_set1_pd(px), vy = _mm512_set1_pd(py), vz = _mm512_set1_pd(pz);
+    const __m512d vpi = _mm512_set1_pd(pi), zero = _mm512_setzero_pd();
+    const __m256i nine = _mm256_set1_epi32(9);
+    __m512d sx = zero, sy = zero, sz = zero, tx = zero, ty = zero, tz = zero, d[3];
+    for (uint32_t q = q0; q < q1; q += 8) {
+        const __mmask8 l = sph__lanes(q, q1);
+        const __m256i j = sph__idx(idx, q, l);
+        const __m512d r2 = sph__dist2(j, l, vx, vy, vz, x, y, z, d);
+        const __m512d c =
+            _mm512_mul_pd(_mm512_add_pd(vpi, _mm512_mask_i32gather_pd(vpi, l, j, pt, 8)),
+                          sph__gradf(&k, r2, type));
+        const __m512d fx = _mm512_maskz_mul_pd(l, c, d[0]), fy = _mm512_maskz_mul_pd(l, c, d[1]);
+        const __m512d fz = _mm512_maskz_mul_pd(l, c, d[2]);
+        sx = _mm512_add_pd(sx, fx);
+        sy = _mm512_add_pd(sy, fy);
+        sz = _mm512_add_pd(sz, fz);
+        const __m256i j9 = _mm256_mullo_epi32(j, nine);
+        __m512d m[9];
+        for (int e = 0; e < 9; e++)
+            m[e] =
+                _mm512_mask_i32gather_pd(zero, l, _mm256_add_epi32(j9, _mm256_set1_epi32(e)), L, 8);
+        tx = _mm512_fmadd_pd(m[0], fx, _mm512_fmadd_pd(m[1], fy, _mm512_fmadd_pd(m[2], fz, tx)));
+        ty = _mm512_fmadd_pd(m[3], fx, _mm512_fmadd_pd(m[4], fy, _mm512_fmadd_pd(m[5], fz, ty)));
+        tz = _mm512_fmadd_pd(m[6], fx, _mm512_fmadd_pd(m[7], fy, _mm512_fmadd_pd(m[8], fz, tz)));
+    }
+    s[0] -= _mm512_reduce_add_pd(sx);
+    s[1] -= _mm512_reduce_add_pd(sy);
+    s[2] -= _mm512_reduce_add_pd(sz);
+    t[0] -= _mm512_reduce_add_pd(tx);
+    t[1] -= _mm512_reduce_add_pd(ty);
+    t[2] -= _mm512_reduce_add_pd(tz);
+#else
+    double sx = 0.0, sy = 0.0, sz = 0.0, tx = 0.0, ty = 0.0, tz = 0.0;
+    for (uint32_t q = q0; q < q1; q++) {
+        const uint32_t j = idx[q];
+        const double dx = px - x[j], dy = py - y[j], dz = pz - z[j];
+        const double c = (pi + pt[j]) * krn_gradf_t(&k, type, sqrt(dx * dx + dy * dy + dz * dz));
+        const double fx = c * dx, fy = c * dy, fz = c * dz;
+        const double *Lj = L + 9 * (size_t)j;
+        sx += fx, sy += fy, sz += fz;
+        tx += Lj[0] * fx + Lj[1] * fy + Lj[2] * fz;
+        ty += Lj[3] * fx + Lj[4] * fy + Lj[5] * fz;
+        tz += Lj[6] * fx + Lj[7] * fy + Lj[8] * fz;
+    }
+    s[0] -= sx, s[1] -= sy, s[2] -= sz;
+    t[0] -= tx, t[1] -= ty, t[2] -= tz;
+#endif
+}
+
+static inline void sph_sum_pressure_pairs(const krn_kernel k, const uint32_t *restrict idx,
+                                          uint32_t q0, uint32_t q1, double px, double py, double pz,
+                                          double pi, const double *restrict x,
+                                          const double *restrict y, const double *restrict z,
+                                          const double *restrict pt, const double *restrict L,
+                                          double s[3], double t[3])
+{
+    if (k.type == KRN_WENDLAND_C2)
+        sph__sum_pressure_pairs(KRN_WENDLAND_C2, k, idx, q0, q1, px, py, pz, pi, x, y, z, pt, L, s,
+                                t);
+    else
+        sph__sum_pressure_pairs(KRN_CUBIC_SPLINE, k, idx, q0, q1, px, py, pz, pi, x, y, z, pt, L, s,
+                                t);
+}
+
 /* a += scale sum_j m_j Pi'_ij gradf(r_ij) x_ij, Pi'_ij = (v_ij . x_ij) /
  * (r_ij^2 + eps_h2) for approaching pairs (v_ij . x_ij < 0), else 0: the
  * artificial viscosity's sum (effects/viscosity.h), v_ij = v - v_j.

@@ -416,6 +416,7 @@ typedef struct pass_ctx {
     const double *lc; /* the gradient correction of each fluid particle (9 per particle) */
     const double *lf; /* the same for the pressure force (pressureForce corrected), or NULL */
     const unsigned char *lin; /* with lf: 1 where it corrects (an isotropic neighbourhood) */
+    const double *lfc;        /* correctedConservative: L_i or the identity, every row, or NULL */
     const double *bx, *by, *bz, *bm;
     double *rho, *p, *pt, *err, *err_vol;
     double *apx, *apy, *apz;
@@ -452,7 +453,8 @@ static pass_ctx pass_begin(pcs_solver *s, const double *x, const double *y, cons
                   .source = s->prm.source,
                   .pmin = s->prm.hold_mean ? -HUGE_VAL : 0.0,
                   .lc = s->prm.grad_correction ? s->lcorr : NULL,
-                  .lf = s->prm.force_correction ? s->lcorr : NULL,
+                  .lf = s->prm.force_correction == PCS_FORCE_CORRECTED ? s->lcorr : NULL,
+                  .lfc = s->prm.force_correction == PCS_FORCE_CONSERVATIVE ? s->lforce : NULL,
                   .lin = s->linterior,
                   .bx = b->x,
                   .by = b->y,
@@ -563,13 +565,39 @@ predict_one(const pass_ctx *c, size_t i, const int wall, const wall_density_fn w
     return cmp;
 }
 
+/* pressureForce correctedConservative: particle i's force, each fluid
+ * pair's term of eq. (6) times (L_i + L_j) / 2 (lfc: L or the identity),
+ * the wall's term times L_i: L_i (s / 2 + wall) + (sum_j L_j f_ij) / 2
+ * with s = sum_j f_ij.  The pair's terms are opposite on i and j, as the
+ * symmetric force's. */
+static inline __attribute__((always_inline)) void
+pressure_conservative(const pass_ctx *c, size_t i, const wall_pressure_fn wall_term)
+{
+    const double xi = c->x[i], yi = c->y[i], zi = c->z[i], pti = c->pt[i];
+    double sm[3] = {0.0, 0.0, 0.0}, t[3] = {0.0, 0.0, 0.0};
+    sph_sum_pressure_pairs(c->k, c->ffi, c->ffs[i], c->ffs[i + 1], xi, yi, zi, pti, c->x, c->y,
+                           c->z, c->pt, c->lfc, sm, t);
+    const double hm = 0.5 * c->m;
+    double a[3] = {hm * sm[0], hm * sm[1], hm * sm[2]};
+    wall_term(&c->bp, i, xi, yi, zi, pti, a);
+    const double *L = c->lfc + 9 * i;
+    c->apx[i] = L[0] * a[0] + L[1] * a[1] + L[2] * a[2] + hm * t[0];
+    c->apy[i] = L[3] * a[0] + L[4] * a[1] + L[5] * a[2] + hm * t[1];
+    c->apz[i] = L[6] * a[0] + L[7] * a[1] + L[8] * a[2] + hm * t[2];
+}
+
 /* Pressure force per unit mass on fluid particle i, eq. (6): its fluid
  * neighbours, then the wall's term of the method; with pressureForce
  * corrected the sum times L_i where its neighbourhood is isotropic (every
- * term is a multiple of grad W_ij). */
+ * term is a multiple of grad W_ij); correctedConservative:
+ * pressure_conservative. */
 static inline __attribute__((always_inline)) void pressure_one(const pass_ctx *c, size_t i,
                                                                const wall_pressure_fn wall_term)
 {
+    if (c->lfc) {
+        pressure_conservative(c, i, wall_term);
+        return;
+    }
     const double xi = c->x[i], yi = c->y[i], zi = c->z[i];
     double a[3] = {0.0, 0.0, 0.0};
     sph_sum_pressure(c->k, c->ffi, c->ffs[i], c->ffs[i + 1], xi, yi, zi, c->pt[i], c->x, c->y, c->z,
@@ -900,6 +928,7 @@ void pcs_free(pcs_solver *s)
     sl_free_aligned(s->ap_best);
     sl_free_aligned(s->lcorr);
     sl_free_aligned(s->linterior);
+    sl_free_aligned(s->lforce);
     if (s->prm.method && s->prm.method->free) s->prm.method->free(s->bstate);
     free(s->dens);
     dom_halo_free(&s->halo);
@@ -947,6 +976,10 @@ static void ensure_scratch(pcs_solver *s)
             sl_free_aligned(s->linterior);
             s->linterior =
                 sl_alloc_aligned(s->f->cap * sizeof *s->linterior, "gradient correction");
+        }
+        if (s->prm.force_correction == PCS_FORCE_CONSERVATIVE) {
+            sl_free_aligned(s->lforce);
+            s->lforce = sl_alloc_aligned(9 * s->f->cap * sizeof *s->lforce, "gradient correction");
         }
         if (!s->prm.method->wall_density) {
             sl_free_aligned(s->err_vol);
@@ -1227,7 +1260,17 @@ static void gradient_correction(pcs_solver *s)
         if (s->linterior)
             s->linterior[i] =
                 (unsigned char)(corrects && krn_correction_isotropy(A) >= PCS_FORCE_ISOTROPY);
+        if (s->lforce) {
+            static const double id[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+            memcpy(s->lforce + 9 * i, s->linterior[i] ? lc + 9 * i : id, sizeof id);
+        }
     }
+    if (s->prm.force_correction != PCS_FORCE_CONSERVATIVE) return;
+    /* correctedConservative reads its neighbours' L_j: the domain mode's
+     * halo rows from their owners (their lists here are not whole), then
+     * the periodic images from their originals */
+    if (s->split.domain) pcd_exchange_rows(s, s->lforce, 9);
+    if (dom_halo_on(&s->halo)) dom_refresh_rows(&s->halo, n, s->lforce, 9);
 }
 
 /* The loop of Algorithm 2: predict, correct the pressure, until the

@@ -71,13 +71,17 @@ typedef struct pcs_params {
     int grad_correction;  /* divergence, mixed: the density change with the kernel gradient
                           * correction L_i of Bonet & Lok 1999 (exact for a linear
                           * velocity field on any packing) */
-    int force_correction; /* pressureForce corrected: the pressure force of eq. (6) times
-                          * the same L_i (at x(t)) where the neighbourhood is isotropic
-                          * (PCS_FORCE_ISOTROPY), so that there the force of a linear
-                          * pressure field is its gradient on any packing and with any
-                          * kernel's moment (Wendland C2's deficit at 2.2 r0); next to
-                          * a free surface the paper's force.  Not conservative: the
-                          * pairs' forces no longer cancel */
+    int force_correction; /* pressureForce (PCS_FORCE_*).  corrected: the pressure force
+                          * of eq. (6) times the same L_i (at x(t)) where the
+                          * neighbourhood is isotropic (PCS_FORCE_ISOTROPY), so that
+                          * there the force of a linear pressure field is its gradient
+                          * on any packing and with any kernel's moment (Wendland C2's
+                          * deficit at 2.2 r0); next to a free surface the paper's
+                          * force.  Not conservative: the pairs' forces no longer
+                          * cancel.  correctedConservative: each fluid pair's term
+                          * times (L_i + L_j) / 2 (L the identity where it does not
+                          * correct), the wall's term times L_i: the pairs' forces
+                          * cancel again */
     int hold_mean;        /* divergence (meanPressure): pressures not clamped at zero and
                           * their mean over the fluid held at mean_pressure after every
                           * update; for a box without a free surface, where the
@@ -94,6 +98,8 @@ typedef struct pcs_params {
 } pcs_params;
 
 enum { PCS_SOURCE_DENSITY = 0, PCS_SOURCE_DIVERGENCE = 1, PCS_SOURCE_MIXED = 2 };
+/* pressureForce: symmetric (eq. 6), corrected, correctedConservative */
+enum { PCS_FORCE_SYMMETRIC = 0, PCS_FORCE_CORRECTED = 1, PCS_FORCE_CONSERVATIVE = 2 };
 
 /* pressureForce corrected: L_i corrects particle i's pressure force where
  * its moment matrix A_i (kernel_correction.h) is isotropic, det A_i /
@@ -233,6 +239,9 @@ struct pcs_solver {
     double *lcorr;            /* gradientCorrection, pressureForce corrected: L_i (9 x cap) */
     unsigned char *linterior; /* pressureForce corrected: 1 where L_i corrects the force
                                * (an isotropic neighbourhood, PCS_FORCE_ISOTROPY) */
+    double *lforce;           /* correctedConservative: L_i where it corrects the force,
+                               * else the identity (9 x cap), on every row the pressure
+                               * force reads: own, halo (exchanged) and images */
     pcs_timers time;
     eff_set *eff;        /* the case's effects (not owned; may be NULL) */
     eff_instance **dens; /* its EFF_DENSITY effects */

@@ -1353,6 +1353,25 @@ void pcd_exchange_predicted(pcs_solver *s)
     if (!s->split.overlap) pcd_wait(s);
 }
 
+void pcd_exchange_rows(pcs_solver *s, double *a, int width)
+{
+    struct pcs_domain *d = s->split.dd;
+    const int p = s->split.size;
+    const size_t w = (size_t)width;
+    const double t0 = omp_get_wtime();
+    pcd_wait(s); /* one exchange in flight at a time */
+    d->isbuf = grow(d->isbuf, &d->isbuf_cap, w * d->nsend + 1, sizeof *d->isbuf, "halo buffer");
+    d->irbuf = grow(d->irbuf, &d->irbuf_cap, w * d->nrecv + 1, sizeof *d->irbuf, "halo buffer");
+    for (size_t k = 0; k < d->nsend; k++)
+        memcpy(d->isbuf + w * k, a + w * d->send_idx[k], w * sizeof *a);
+    scale(d->hscnt, width, d->ws, d->wsd, p);
+    scale(d->hrcnt, width, d->wr, d->wrd, p);
+    par_exchange_double(d->isbuf, d->ws, d->wsd, d->irbuf, d->wr, d->wrd);
+    for (size_t k = 0; k < d->nrecv; k++)
+        memcpy(a + w * d->recv_idx[k], d->irbuf + w * k, w * sizeof *a);
+    s->time.comm += omp_get_wtime() - t0;
+}
+
 /* The halo's p/rho^2 and rho (2 doubles per particle), and with the
  * one-cell halo the boundary's p/rho^2 from the owners of their cells (1
  * each), in one message per neighbour rank, started. */

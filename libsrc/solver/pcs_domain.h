@@ -140,6 +140,10 @@ void pcd_after_search(pcs_solver *s);
  * passes compute the rows that read no halo value, then pcd_wait
  * completes them (a no-op when nothing is in flight). */
 void pcd_exchange_predicted(pcs_solver *s);
+/* Rows of width doubles per fluid particle (a[width * i ...]) of the halo
+ * from their owners, completed before it returns (collective; once a
+ * step: pressureForce correctedConservative's L_j). */
+void pcd_exchange_rows(pcs_solver *s, double *a, int width);
 double pcd_after_density(pcs_solver *s, double emax);
 void pcd_wait(pcs_solver *s);
 /* After the integration (and after the density for output): the own

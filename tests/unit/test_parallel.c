@@ -278,6 +278,40 @@ static void test_pressure_force_corrected(void **state)
                          0);
 }
 
+/* pressureForce correctedConservative (each pair's term times (L_i + L_j)
+ * / 2, solver/pcisph.h), which reads its neighbours' L_j: on 3 ranks of
+ * the domain mode (the halo's L_j from their owners) the serial files; in
+ * the periodic channel on 3 ranks of the domain mode (images of halo
+ * particles) and on 2 of the halo mode the serial files too; and it is
+ * not the corrected force's. */
+static void test_pressure_force_conservative(void **state)
+{
+    (void)state;
+    NEED_MPI();
+    char edit[2048];
+    const char *word = "echo 'pressureForce correctedConservative;' >> constant/fluidProperties";
+    snprintf(edit, sizeof edit, "%s && %s", dam, word);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parConsSerial", edit, 0), 0);
+    assert_int_equal(run_np("tests/cases/damBreakShort", "parCons3", edit, 3), 0);
+    same_output("parConsSerial", "parCons3");
+    assert_int_equal(system("grep -q 'domain mode' tests/output/parCons3/log.pcisph"), 0);
+    assert_int_equal(system("test -f tests/output/parForceSerial/0.04/fluid.vtu"), 0);
+    assert_int_not_equal(system("cmp -s tests/output/parConsSerial/0.04/fluid.vtu "
+                                "tests/output/parForceSerial/0.04/fluid.vtu"),
+                         0);
+    snprintf(edit, sizeof edit,
+             "sed -i 's/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict && %s", word);
+    assert_int_equal(run_np("tests/cases/periodicChannel", "parConsPerSerial", edit, 0), 0);
+    assert_int_equal(run_np("tests/cases/periodicChannel", "parConsPer3", edit, 3), 0);
+    same_output("parConsPerSerial", "parConsPer3");
+    assert_int_equal(system("grep -q 'domain mode' tests/output/parConsPer3/log.pcisph"), 0);
+    setenv("SLUICE_PARALLEL_EXCHANGE", "halo", 1);
+    int rc = run_np("tests/cases/periodicChannel", "parConsPerHalo2", edit, 2);
+    unsetenv("SLUICE_PARALLEL_EXCHANGE");
+    assert_int_equal(rc, 0);
+    same_output("parConsPerSerial", "parConsPerHalo2");
+}
+
 static void test_ranks_times_threads(void **state)
 {
     (void)state;
@@ -1173,6 +1207,7 @@ int main(void)
         cmocka_unit_test(test_streamed_output),
         cmocka_unit_test(test_pressure_source),
         cmocka_unit_test(test_pressure_force_corrected),
+        cmocka_unit_test(test_pressure_force_conservative),
         cmocka_unit_test(test_ranks_times_threads),
         cmocka_unit_test(test_gather_and_halo_modes),
         cmocka_unit_test(test_boundary_methods),

@@ -174,6 +174,8 @@ static void test_hydrostatic_tank(void **state)
 #define WENDLAND_22 \
     " && sed -i 's/^eta .*/&\\nkernel wendlandC2;\\nkernelSupport 2.2;/' constant/fluidProperties"
 #define CORRECTED " && sed -i 's/^eta .*/&\\npressureForce corrected;/' constant/fluidProperties"
+#define CONSERVATIVE \
+    " && sed -i 's/^eta .*/&\\npressureForce correctedConservative;/' constant/fluidProperties"
 /* The symmetric and the corrected force at one level: gradientError (g)
  * and error (e) of each, [0] symmetric, [1] corrected. */
 static void force_pair(double r0, double dt, const char *tag, double g[2], double e[2])
@@ -203,6 +205,16 @@ static void test_pressure_force_corrected(void **state)
     assert_true(fabs(g[1]) < 0.005);
     assert_true(e[1] < 0.0075);
     assert_true(e[1] < 0.5 * e[0]);
+    /* correctedConservative (each pair's term times (L_i + L_j) / 2): the slope as right
+     * (measured -0.0001), the error between the two (0.0120 at 0.25 s; 1 s of the sweep
+     * conservativeForce/: 0.0076) */
+    const char *name = "hydrostatic_force_conservative_0.005";
+    level("hydrostaticTank", name, 0.005, 0.00025, RELAXED_TO_025 WENDLAND_22 CONSERVATIVE);
+    const double gc = summary_column(name, 18), ec = summary_column(name, 0);
+    print_message("r0 0.005: conservative gradient error %.4g, error %.4g\n", gc, ec);
+    assert_true(fabs(gc) < 0.005);
+    assert_true(ec < 0.018);
+    assert_true(ec < 0.75 * e[0]);
 }
 
 /* initialPacking relaxed (the lattice jittered by 0.1 r0 and settled by
@@ -1221,11 +1233,14 @@ static void test_pressure_source_refusals(void **state)
     assert_non_null(strstr(output, "boundaryProperties:"));
     assert_non_null(strstr(output, "keyword 'method': harada2007"));
     assert_int_not_equal(run("test -e %s/0", c), 0); /* nothing written */
-    /* pressureForce: symmetric or corrected, nothing else; corrected with ihmsen2010 only
-     * (the case's method is still harada2007) */
+    /* pressureForce: symmetric, corrected or correctedConservative, nothing else; the
+     * corrected forces with ihmsen2010 only (the case's method is still harada2007) */
     fluid_refused(c, "s/^pressureSource .*/pressureForce corected;/",
-                  "keyword 'pressureForce': 'corected' is not one of: symmetric corrected");
+                  "keyword 'pressureForce': 'corected' is not one of: symmetric corrected "
+                  "correctedConservative");
     fluid_refused(c, "s/^pressureForce .*/pressureForce corrected;/",
+                  "keyword 'method': pressureForce corrected");
+    fluid_refused(c, "s/^pressureForce .*/pressureForce correctedConservative;/",
                   "keyword 'method': pressureForce corrected");
 }
 
