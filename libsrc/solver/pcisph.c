@@ -589,15 +589,12 @@ pressure_conservative(const pass_ctx *c, size_t i, const wall_pressure_fn wall_t
 /* Pressure force per unit mass on fluid particle i, eq. (6): its fluid
  * neighbours, then the wall's term of the method; with pressureForce
  * corrected the sum times L_i where its neighbourhood is isotropic (every
- * term is a multiple of grad W_ij); correctedConservative:
- * pressure_conservative. */
+ * term is a multiple of grad W_ij).  correctedConservative:
+ * pressure_conservative, in loops of its own (PCS_FORCE_ROWS), so that
+ * the other forces' compiled loops, and their bits, are as before. */
 static inline __attribute__((always_inline)) void pressure_one(const pass_ctx *c, size_t i,
                                                                const wall_pressure_fn wall_term)
 {
-    if (c->lfc) {
-        pressure_conservative(c, i, wall_term);
-        return;
-    }
     const double xi = c->x[i], yi = c->y[i], zi = c->z[i];
     double a[3] = {0.0, 0.0, 0.0};
     sph_sum_pressure(c->k, c->ffi, c->ffs[i], c->ffs[i + 1], xi, yi, zi, c->pt[i], c->x, c->y, c->z,
@@ -725,6 +722,28 @@ static double after_density(pcs_solver *s, int wall, double emax)
  *              returns the largest compression (absolute);
  *   M_force    the pressure force (eq. 6);
  *   M_current  the density at x(t), for output (no pressure update). */
+/* The pressure force's rows of this rank (ROW: pressure_one or
+ * pressure_conservative, WALL the method's wall term; c the pass): with
+ * the domain mode's overlap first the rows that read no halo p/rho^2
+ * while it travels, then the others; the gather mode gathers them. */
+#define PCS_FORCE_ROWS(ROW, WALL)                                                                \
+    do {                                                                                         \
+        const size_t i0 = s->split.row[s->split.rank], i1 = s->split.row[s->split.rank + 1];     \
+        if (s->split.overlap) {                                                                  \
+            const uint32_t *ord = s->split.order;                                                \
+            const size_t nin = s->split.ninner, nall = s->split.norder;                          \
+            _Pragma("omp parallel for schedule(dynamic, 1024)") for (size_t q = 0; q < nin; q++) \
+                ROW(&c, ord[q], WALL);                                                           \
+            pcd_wait(s);                                                                         \
+            _Pragma("omp parallel for schedule(dynamic, 1024)") for (size_t q = nin; q < nall;   \
+                                                                     q++) ROW(&c, ord[q], WALL); \
+            break;                                                                               \
+        }                                                                                        \
+        _Pragma("omp parallel for schedule(dynamic, 1024)") for (size_t i = i0; i < i1; i++)     \
+            ROW(&c, i, WALL);                                                                    \
+        if (s->split.size > 1 && !s->split.halo) gather_force(s);                                \
+    } while (0)
+
 #define PCS_METHOD_PASSES(M)                                                                      \
     static double M##_predict_overlap(pcs_solver *s, const pass_ctx *c, size_t b0, size_t b1,     \
                                       size_t g0, size_t g1)                                       \
@@ -793,25 +812,21 @@ static double after_density(pcs_solver *s, int wall, double emax)
         s->err_sum = total;                                                                       \
         return emax;                                                                              \
     }                                                                                             \
-    static void M##_force(pcs_solver *s)                                                          \
+    static void M##_force_conservative(pcs_solver *s)                                             \
     {                                                                                             \
         const sl_fluid *f = s->f;                                                                 \
         const pass_ctx c = pass_begin(s, f->xs, f->ys, f->zs);                                    \
-        const size_t i0 = s->split.row[s->split.rank], i1 = s->split.row[s->split.rank + 1];      \
-        if (s->split.overlap) { /* the rows that read no halo p/rho^2 while it travels */         \
-            const uint32_t *ord = s->split.order;                                                 \
-            const size_t nin = s->split.ninner, nall = s->split.norder;                           \
-            _Pragma("omp parallel for schedule(dynamic, 1024)") for (size_t q = 0; q < nin; q++)  \
-                pressure_one(&c, ord[q], M##_pressure);                                           \
-            pcd_wait(s);                                                                          \
-            _Pragma("omp parallel for schedule(dynamic, 1024)") for (size_t q = nin; q < nall;    \
-                                                                     q++)                         \
-                pressure_one(&c, ord[q], M##_pressure);                                           \
+        PCS_FORCE_ROWS(pressure_conservative, M##_pressure);                                      \
+    }                                                                                             \
+    static void M##_force(pcs_solver *s)                                                          \
+    {                                                                                             \
+        if (s->prm.force_correction == PCS_FORCE_CONSERVATIVE) {                                  \
+            M##_force_conservative(s);                                                            \
             return;                                                                               \
         }                                                                                         \
-        _Pragma("omp parallel for schedule(dynamic, 1024)") for (size_t i = i0; i < i1; i++)      \
-            pressure_one(&c, i, M##_pressure);                                                    \
-        if (s->split.size > 1 && !s->split.halo) gather_force(s);                                 \
+        const sl_fluid *f = s->f;                                                                 \
+        const pass_ctx c = pass_begin(s, f->xs, f->ys, f->zs);                                    \
+        PCS_FORCE_ROWS(pressure_one, M##_pressure);                                               \
     }                                                                                             \
     static void M##_current(pcs_solver *s)                                                        \
     {                                                                                             \
