@@ -1243,8 +1243,10 @@ static void warm_start(pcs_solver *s)
  * L_i = (sum_j V_j grad W_ij (x_j - x_i)^T)^-1 over its fluid and
  * boundary neighbours (V_j = m_j / rho0; Bonet & Lok 1999), the identity
  * where the sum is near singular (a deficient neighbourhood);
- * with pressureForce corrected also whether the force takes it (an
- * isotropic A_i, PCS_FORCE_ISOTROPY). */
+ * with pressureForce corrected and correctedConservative also whether the
+ * force takes it (an isotropic A_i, PCS_FORCE_ISOTROPY); with
+ * correctedConservative lforce, L_i or the identity, on every row the
+ * force reads (own, halo, images). */
 static void gradient_correction(pcs_solver *s)
 {
     const sl_fluid *f = s->f;

@@ -278,6 +278,21 @@ static void test_pressure_force_corrected(void **state)
                          0);
 }
 
+/* src with edit on np ranks of mode ("domain": the default, "halo",
+ * "gather") as name: the files of the serial run `serial`. */
+static void same_on_ranks(const char *src, const char *serial, const char *name, const char *edit,
+                          int np, const char *mode)
+{
+    if (strcmp(mode, "domain") != 0) setenv("SLUICE_PARALLEL_EXCHANGE", mode, 1);
+    const int rc = run_np(src, name, edit, np);
+    unsetenv("SLUICE_PARALLEL_EXCHANGE");
+    assert_int_equal(rc, 0);
+    same_output(serial, name);
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "grep -q 'parallel: %s mode' tests/output/%s/log.pcisph", mode, name);
+    assert_int_equal(system(cmd), 0);
+}
+
 /* pressureForce correctedConservative (each pair's term times (L_i + L_j)
  * / 2, solver/pcisph.h), which reads its neighbours' L_j: on 3 ranks of
  * the domain mode (the halo's L_j from their owners) the serial files; in
@@ -292,24 +307,17 @@ static void test_pressure_force_conservative(void **state)
     const char *word = "echo 'pressureForce correctedConservative;' >> constant/fluidProperties";
     snprintf(edit, sizeof edit, "%s && %s", dam, word);
     assert_int_equal(run_np("tests/cases/damBreakShort", "parConsSerial", edit, 0), 0);
-    assert_int_equal(run_np("tests/cases/damBreakShort", "parCons3", edit, 3), 0);
-    same_output("parConsSerial", "parCons3");
-    assert_int_equal(system("grep -q 'domain mode' tests/output/parCons3/log.pcisph"), 0);
+    same_on_ranks("tests/cases/damBreakShort", "parConsSerial", "parCons3", edit, 3, "domain");
     assert_int_equal(system("test -f tests/output/parForceSerial/0.04/fluid.vtu"), 0);
     assert_int_not_equal(system("cmp -s tests/output/parConsSerial/0.04/fluid.vtu "
                                 "tests/output/parForceSerial/0.04/fluid.vtu"),
                          0);
     snprintf(edit, sizeof edit,
              "sed -i 's/^numberOfThreads .*/numberOfThreads 1;/' system/controlDict && %s", word);
-    assert_int_equal(run_np("tests/cases/periodicChannel", "parConsPerSerial", edit, 0), 0);
-    assert_int_equal(run_np("tests/cases/periodicChannel", "parConsPer3", edit, 3), 0);
-    same_output("parConsPerSerial", "parConsPer3");
-    assert_int_equal(system("grep -q 'domain mode' tests/output/parConsPer3/log.pcisph"), 0);
-    setenv("SLUICE_PARALLEL_EXCHANGE", "halo", 1);
-    int rc = run_np("tests/cases/periodicChannel", "parConsPerHalo2", edit, 2);
-    unsetenv("SLUICE_PARALLEL_EXCHANGE");
-    assert_int_equal(rc, 0);
-    same_output("parConsPerSerial", "parConsPerHalo2");
+    const char *chan = "tests/cases/periodicChannel";
+    assert_int_equal(run_np(chan, "parConsPerSerial", edit, 0), 0);
+    same_on_ranks(chan, "parConsPerSerial", "parConsPer3", edit, 3, "domain");
+    same_on_ranks(chan, "parConsPerSerial", "parConsPerHalo2", edit, 2, "halo");
 }
 
 static void test_ranks_times_threads(void **state)
