@@ -252,34 +252,36 @@ static void *read(const dict *d, const eff_setup *su)
         dict_fatal(d, "laminarViscosity",
                    "must be a dictionary { nu ..; [boundaryNu ..;] [normalized on | tensor;] }");
     dict_warn_unknown(v, keys);
-    lvisc_params *p = sl_malloc(sizeof *p, "laminarViscosity");
-    dict_need(dict_get_scalar(v, "nu", &p->nu, &err), &err);
-    if (!(p->nu >= 0.0)) dict_fatal(v, "nu", "must be zero or positive");
-    dict_need(dict_get_scalar_or(v, "boundaryNu", p->nu, &p->nu_boundary, &err), &err);
-    if (!(p->nu_boundary >= 0.0)) dict_fatal(v, "boundaryNu", "must be zero or positive");
+    lvisc_params q; /* read and checked before it is allocated: a refusal leaks nothing */
+    dict_need(dict_get_scalar(v, "nu", &q.nu, &err), &err);
+    if (!(q.nu >= 0.0)) dict_fatal(v, "nu", "must be zero or positive");
+    dict_need(dict_get_scalar_or(v, "boundaryNu", q.nu, &q.nu_boundary, &err), &err);
+    if (!(q.nu_boundary >= 0.0)) dict_fatal(v, "boundaryNu", "must be zero or positive");
     const char *w;
     dict_need(dict_get_word_or(v, "normalized", "off", &w, &err), &err);
-    if (!strcmp(w, "tensor")) p->normalized = LVISC_TENSOR;
-    else if (dict_get_bool_or(v, "normalized", 0, &p->normalized, &err))
+    if (!strcmp(w, "tensor")) q.normalized = LVISC_TENSOR;
+    else if (dict_get_bool_or(v, "normalized", 0, &q.normalized, &err))
         dict_fatal(v, "normalized",
                    "must be off, on (the sum over the scalar second moment) or tensor (each "
                    "pair's weight corrected by the fourth moment), not '%s'",
                    w);
-    p->tensor_limit = HUGE_VAL;
+    q.tensor_limit = HUGE_VAL;
     const char *lim;
     if (dict_has(v, "tensorLimit") &&
         (dict_get_word(v, "tensorLimit", &lim, &err) ||
          strcmp(lim, "none"))) { /* none: the default */
-        if (p->normalized != LVISC_TENSOR)
+        if (q.normalized != LVISC_TENSOR)
             dict_fatal(v, "tensorLimit", "applies to normalized tensor only (normalized is '%s')",
                        w);
-        dict_need(dict_get_scalar(v, "tensorLimit", &p->tensor_limit, &err), &err);
-        if (!(p->tensor_limit >= 0.0))
+        dict_need(dict_get_scalar(v, "tensorLimit", &q.tensor_limit, &err), &err);
+        if (!(q.tensor_limit >= 0.0))
             dict_fatal(v, "tensorLimit",
                        "must be none, zero (the scalar normalization) or positive (the "
                        "largest departure |tau A - I| of the tensor from the scalar "
                        "normalization)");
     }
+    lvisc_params *p = sl_malloc(sizeof *p, "laminarViscosity");
+    *p = q;
     return p;
 }
 

@@ -41,26 +41,29 @@ static void *read(const dict *d, const eff_setup *su)
         dict_fatal(d, "viscosity",
                    "must be a dictionary { alpha ..; soundSpeed ..; } or { nu ..; }");
     dict_warn_unknown(v, keys);
-    visc_params *p = sl_malloc(sizeof *p, "viscosity");
+    visc_params q; /* read and checked before it is allocated: a refusal leaks nothing */
     if (dict_has(v, "nu")) {
         double nu, nub;
         dict_need(dict_get_scalar(v, "nu", &nu, &err), &err);
         if (!(nu >= 0.0)) dict_fatal(v, "nu", "must be zero or positive");
         dict_need(dict_get_scalar_or(v, "boundaryNu", 0.0, &nub, &err), &err);
         if (!(nub >= 0.0)) dict_fatal(v, "boundaryNu", "must be zero or positive");
-        p->coef = 10.0 * nu;
-        p->coef_boundary = 10.0 * nub;
-        return p;
+        q.coef = 10.0 * nu;
+        q.coef_boundary = 10.0 * nub;
+    } else {
+        double alpha, alphab, cs;
+        dict_need(dict_get_scalar(v, "alpha", &alpha, &err), &err);
+        if (!(alpha >= 0.0 && alpha <= 10.0)) dict_fatal(v, "alpha", "must be in [0, 10]");
+        dict_need(dict_get_scalar_or(v, "boundaryAlpha", 0.0, &alphab, &err), &err);
+        if (!(alphab >= 0.0 && alphab <= 10.0))
+            dict_fatal(v, "boundaryAlpha", "must be in [0, 10]");
+        dict_need(dict_get_scalar(v, "soundSpeed", &cs, &err), &err);
+        dict_need_positive(v, "soundSpeed", cs);
+        q.coef = alpha * su->h * cs;
+        q.coef_boundary = alphab * su->h * cs;
     }
-    double alpha, alphab, cs;
-    dict_need(dict_get_scalar(v, "alpha", &alpha, &err), &err);
-    if (!(alpha >= 0.0 && alpha <= 10.0)) dict_fatal(v, "alpha", "must be in [0, 10]");
-    dict_need(dict_get_scalar_or(v, "boundaryAlpha", 0.0, &alphab, &err), &err);
-    if (!(alphab >= 0.0 && alphab <= 10.0)) dict_fatal(v, "boundaryAlpha", "must be in [0, 10]");
-    dict_need(dict_get_scalar(v, "soundSpeed", &cs, &err), &err);
-    dict_need_positive(v, "soundSpeed", cs);
-    p->coef = alpha * su->h * cs;
-    p->coef_boundary = alphab * su->h * cs;
+    visc_params *p = sl_malloc(sizeof *p, "viscosity");
+    *p = q;
     return p;
 }
 
