@@ -711,17 +711,6 @@ static double after_density(pcs_solver *s, int wall, double emax)
     return s->split.size > 1 ? pcx_after_density(s, emax) : emax;
 }
 
-/* The three passes of method M, each with its own parallel loop so that
- * the method's terms are inlined into it (the parallel region is outlined
- * per function, before inlining):
- *   M_predict  predicted density and pressure of the fluid at x* and of
- *              the active boundary particles (eq. 13, eq. 3), in one
- *              parallel region; fills s->err and its sum s->err_sum (in
- *              blocks of SL_REDUCE_BLOCK, each summed in order, the block
- *              sums in order: the same bits for any thread count) and
- *              returns the largest compression (absolute);
- *   M_force    the pressure force (eq. 6);
- *   M_current  the density at x(t), for output (no pressure update). */
 /* The pressure force's rows of this rank (ROW: pressure_one or
  * pressure_conservative, WALL the method's wall term; c the pass): with
  * the domain mode's overlap first the rows that read no halo p/rho^2
@@ -744,6 +733,18 @@ static double after_density(pcs_solver *s, int wall, double emax)
         if (s->split.size > 1 && !s->split.halo) gather_force(s);                                \
     } while (0)
 
+/* The three passes of method M, each with its own parallel loop so that
+ * the method's terms are inlined into it (the parallel region is outlined
+ * per function, before inlining):
+ *   M_predict  predicted density and pressure of the fluid at x* and of
+ *              the active boundary particles (eq. 13, eq. 3), in one
+ *              parallel region; fills s->err and its sum s->err_sum (in
+ *              blocks of SL_REDUCE_BLOCK, each summed in order, the block
+ *              sums in order: the same bits for any thread count) and
+ *              returns the largest compression (absolute);
+ *   M_force    the pressure force (eq. 6); correctedConservative's in
+ *              M_force_conservative's loops;
+ *   M_current  the density at x(t), for output (no pressure update). */
 #define PCS_METHOD_PASSES(M)                                                                      \
     static double M##_predict_overlap(pcs_solver *s, const pass_ctx *c, size_t b0, size_t b1,     \
                                       size_t g0, size_t g1)                                       \
