@@ -47,6 +47,7 @@ typedef struct fo_list fo_list;
  * which rebuilds only what is needed from the VTK files). */
 #define FO_NEED_BOUNDARY 1u /* boundary particles with pressure, density, mass */
 #define FO_NEED_GRID     2u /* the neighbour grid, for point queries */
+#define FO_NEED_POWER    4u /* the solver's power of the forces (pcs_want_power) */
 
 /* The function objects of <case>/system/controlDict; NULL when there is no
  * `functions` dictionary or every entry is disabled.  Exits with

@@ -18,7 +18,8 @@
 #include <unistd.h>
 
 static const fo_type *const fo_types[] = {&fo_type_density_error, &fo_type_probes,
-                                          &fo_type_water_gauges, &fo_type_energy, NULL};
+                                          &fo_type_water_gauges,  &fo_type_energy,
+                                          &fo_type_power,         NULL};
 
 static const char *const common_keys[] = {"type", "writeControl", "writeInterval", "enabled", NULL};
 

@@ -59,6 +59,7 @@ extern const fo_type fo_type_density_error;
 extern const fo_type fo_type_probes;
 extern const fo_type fo_type_water_gauges;
 extern const fo_type fo_type_energy;
+extern const fo_type fo_type_power;
 
 /* ---- reading (all exit with "<file>:<line>: keyword '<key>': <why>") ---- */
 

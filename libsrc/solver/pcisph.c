@@ -945,6 +945,8 @@ void pcs_free(pcs_solver *s)
     sl_free_aligned(s->lcorr);
     sl_free_aligned(s->linterior);
     sl_free_aligned(s->lforce);
+    sl_free_aligned(s->pw);
+    sl_free_aligned(s->pw_block);
     if (s->prm.method && s->prm.method->free) s->prm.method->free(s->bstate);
     free(s->dens);
     dom_halo_free(&s->halo);
@@ -971,6 +973,10 @@ static void ensure_scratch(pcs_solver *s)
             sl_free_aligned(s->p_block);
             s->p_block = sl_alloc_aligned(s->block_cap * sizeof *s->p_block, "pressure sums");
         }
+        if (s->power_on) {
+            sl_free_aligned(s->pw_block);
+            s->pw_block = sl_alloc_aligned(s->block_cap * sizeof *s->pw_block, "power sums");
+        }
         if (!s->prm.method->wall_density) {
             sl_free_aligned(s->vol_block);
             s->vol_block =
@@ -996,6 +1002,10 @@ static void ensure_scratch(pcs_solver *s)
         if (s->prm.force_correction == PCS_FORCE_CONSERVATIVE) {
             sl_free_aligned(s->lforce);
             s->lforce = sl_alloc_aligned(9 * s->f->cap * sizeof *s->lforce, "gradient correction");
+        }
+        if (s->power_on) {
+            sl_free_aligned(s->pw);
+            s->pw = sl_alloc_aligned(s->f->cap * sizeof *s->pw, "power");
         }
         if (!s->prm.method->wall_density) {
             sl_free_aligned(s->err_vol);
@@ -1324,6 +1334,29 @@ static void pressure_solve(pcs_solver *s, pcs_stats *st)
     solve_stats(s, st, k, emax);
 }
 
+/* pcs_want_power: the step's powers m sum a . v(t + dt) of the pressure
+ * force and of the others, over rows [i0, i1) (own), summed as the
+ * density error (fluid_sum: collective in the halo and domain modes). */
+static void step_power(pcs_solver *s, size_t i0, size_t i1)
+{
+    const sl_fluid *f = s->f;
+    double *pw = s->pw;
+    for (int q = 0; q < 2; q++) {
+        const double *ax = q ? f->ax : f->apx, *ay = q ? f->ay : f->apy, *az = q ? f->az : f->apz;
+#pragma omp parallel for schedule(static)
+        for (size_t i = i0; i < i1; i++)
+            pw[i] = ax[i] * f->vx[i] + ay[i] * f->vy[i] + az[i] * f->vz[i];
+        s->power[q] = s->mass * fluid_sum(s, pw, s->pw_block);
+    }
+}
+
+void pcs_want_power(pcs_solver *s)
+{
+    s->power_on = 1;
+    s->power[0] = s->power[1] = (double)NAN;
+    s->err_cap = s->block_cap = 0; /* ensure_scratch: every scratch again, with pw */
+}
+
 /* Euler-Cromer, then the world collision (eq. 11, 12); vmax and fmax. */
 static void integrate(pcs_solver *s, pcs_stats *st)
 {
@@ -1344,6 +1377,7 @@ static void integrate(pcs_solver *s, pcs_stats *st)
         f->y[i] += dt * f->vy[i];
         f->z[i] += dt * f->vz[i];
     }
+    if (s->power_on) step_power(s, i0, i1);
     st->ncollide = collide_rows(s, i0, i1, f->x, f->y, f->z, f->vx, f->vy, f->vz);
 #pragma omp parallel for schedule(dynamic, 1024) reduction(max : v2max)
     for (size_t i = i0; i < i1; i++) {
@@ -1425,7 +1459,8 @@ pcs_view pcs_view_of(const pcs_solver *s)
                       .boundary_images = s->halo.nb_img > 0,
                       .fluid_z = mf ? pcd_mirror_zext(s) : NULL,
                       .own = s->f,
-                      .dom = s->split.domain ? s : NULL};
+                      .dom = s->split.domain ? s : NULL,
+                      .power = s->power_on ? s->power : NULL};
 }
 
 void pcs_compute_density(pcs_solver *s)

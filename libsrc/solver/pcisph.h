@@ -234,6 +234,12 @@ struct pcs_solver {
     double *err_vol;   /* methods without wall density: the same with the wall's share */
     double *vol_block; /* its sums by blocks of SL_REDUCE_BLOCK (the last prediction) */
     double *p_block;   /* meanPressure: the pressure's sums by blocks (scratch) */
+    /* pcs_want_power: the power of the forces on the fluid over the last
+     * step, [0] the pressure force's, [1] the others', W (NaN before the
+     * first step); pw a row's share (cap), pw_block its block sums */
+    int power_on;
+    double power[2];
+    double *pw, *pw_block;
     size_t err_cap;
     double *ap_best;          /* pressure force of the best iteration (3 x cap) */
     double *lcorr;            /* gradientCorrection, pressureForce corrected: L_i (9 x cap) */
@@ -276,6 +282,12 @@ typedef struct pcs_view {
      * (collective); NULL: the view holds every particle */
     const sl_fluid *own;
     const struct pcs_solver *dom;
+    /* a running solver asked for it (pcs_want_power): the power of the
+     * forces on the fluid over its last step, m sum_i a_i . v_i(t + dt),
+     * [0] the pressure force's (eq. 6), [1] the other forces' (body forces,
+     * viscosity, the effects' forces), W, on rank 0; NaN before the first
+     * step.  NULL otherwise (a snapshot read back: postProcess) */
+    const double *power;
 } pcs_view;
 
 /* The view of s's state. */
@@ -354,6 +366,15 @@ size_t pcs_boundary_total(const pcs_solver *s);
  * every rank gathered on rank 0 in the serial order, where pcs_view_of
  * shows it to function objects (nothing when already gathered since the
  * last step; output does not gather, it streams: pcd_output_begin). */
+/* From the next step on, the power of the forces on the fluid over each
+ * step (pcs_view.power): m sum_i a_i . v_i(t + dt) with the velocity
+ * before the world's collision, the sum in the density error's
+ * association (the same bits on any ranks x threads; collective).  With
+ * Euler-Cromer, dt times the two powers is the kinetic energy's change
+ * plus dt^2 m sum |a|^2 / 2, less what collisions and particleShifting's
+ * velocity correction change.  Costs one pass over the rows a step. */
+void pcs_want_power(pcs_solver *s);
+
 void pcs_gather(pcs_solver *s);
 /* The same for point queries inside nboxes boxes (6 doubles each: lo x y
  * z, hi x y z; rank 0's, sent to all) only: rank 0 receives the particles

@@ -795,10 +795,10 @@ static void test_fo_read(void **state)
     fo_list *l = fo_read_dict(dict_sub(d, "functions"), OUT "/etc", 6);
     dict_free(d);
     assert_non_null(l);
-    assert_int_equal(fo_count(l), 4);
-    const char *types[4] = {"densityError", "probes", "waterGauges", "energy"};
-    for (size_t i = 0; i < 4; i++) assert_string_equal(fo_type_name(l, i), types[i]);
-    assert_int_equal(fo_needs(l), FO_NEED_BOUNDARY | FO_NEED_GRID);
+    assert_int_equal(fo_count(l), 5);
+    const char *types[5] = {"densityError", "probes", "waterGauges", "energy", "power"};
+    for (size_t i = 0; i < 5; i++) assert_string_equal(fo_type_name(l, i), types[i]);
+    assert_int_equal(fo_needs(l), FO_NEED_BOUNDARY | FO_NEED_GRID | FO_NEED_POWER);
     fo_free(l);
 }
 
@@ -872,7 +872,7 @@ static void test_fo_errors(void **state)
     } bad[] = {
         {"x { type pressureProbe; }",
          "keyword 'type' in function object 'x': unknown type 'pressureProbe'; valid types: "
-         "densityError, probes, waterGauges, energy",
+         "densityError, probes, waterGauges, energy, power",
          1},
         {"x { type probes; }",
          "controlDict: missing required keyword 'probeLocations' in function object 'x'", 0},

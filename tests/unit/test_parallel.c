@@ -523,8 +523,8 @@ static void test_function_objects_near(void **state)
 }
 
 /* densityError (percentiles, histograms over the data's range and a fixed
- * one, every step and at write times) and energy (two reference points)
- * alone on the dam break, 2 and 3 ranks (2 threads each on 2): every rank
+ * one, every step and at write times), energy (two reference points) and
+ * power (the solver's sums of the forces' power) alone on the dam break, 2 and 3 ranks (2 threads each on 2): every rank
  * sums its own rows, blocks cut by a rank boundary continued from the
  * lower rank's running sum, the percentiles selected by reductions of
  * counts; the files are the serial ones, byte for byte, and the End
@@ -539,7 +539,8 @@ static void test_function_objects_reduced(void **state)
         "printf 'functions\\n{\\n rhoErr { type densityError; percentiles (0 50 90 99 100); "
         "histogram on; }\\n rhoErrW { type densityError; percentiles (25 75); histogram on; "
         "histogramRange (-2 2); writeControl writeTime; }\\n energy { type energy; }\\n "
-        "energyRef { type energy; referencePoint (1 2 3); }\\n}\\n' >> system/controlDict";
+        "energyRef { type energy; referencePoint (1 2 3); }\\n power { type power; }\\n}\\n' "
+        ">> system/controlDict";
     char threads[1024];
     snprintf(threads, sizeof threads,
              "%s && sed -i 's/^numberOfThreads .*/numberOfThreads 2;/' system/controlDict", fos);

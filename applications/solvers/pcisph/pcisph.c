@@ -1175,6 +1175,7 @@ int main(int argc, char **argv)
     pcs_init_part(&r.s, &r.c.prm, &r.c.fluid, &r.c.boundary, r.c.lo, r.c.hi, r.ctl.dt, &r.c.effects,
                   plan);
     pcd_plan_free(plan);
+    if (fo_needs(fo) & FO_NEED_POWER) pcs_want_power(&r.s);
     pcs_place_world(&r.s, r.t);
     if (restarted && hist_last(&r.hist)) /* domain mode: this rank's part of it */
         pcs_own_snapshot(&r.s, &hist_slot(&r.hist, 0)->snap);

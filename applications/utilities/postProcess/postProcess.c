@@ -5,8 +5,10 @@
  *   postProcess [-case <dir>] [-func <name>]... [-time <times> | -latestTime]
  *
  * Each -func names an entry of the `functions` dictionary of
- * system/controlDict, or a type (densityError, probes, waterGauges, energy)
- * run with its defaults; without -func every entry of `functions` runs.
+ * system/controlDict, or a type (densityError, probes, waterGauges, energy,
+ * power) run with its defaults; without -func every entry of `functions`
+ * runs.  power's columns of the forces are nan here: a written time holds
+ * no forces (only the kinetic energy is read).
  * For each selected time the fluid (and, for probes, the boundary) particles
  * are read from <time>/fluid.vtu and boundary.vtu and the objects write
  * postProcessing/<name>/<firstTime>/<type>.dat, one row per time, exactly as
@@ -29,7 +31,8 @@ static const app_option options[] = {
      .kind = APP_STRING,
      .arg = "<name>",
      .help = "an entry of 'functions' in system/controlDict, or a type run\n"
-             "with its defaults (densityError, probes, waterGauges, energy);\n"
+             "with its defaults (densityError, probes, waterGauges, energy,\n"
+             "power: its powers nan, a written time holds no forces);\n"
              "repeat for several",
      .def = "every entry of 'functions'",
      .repeat = 1},
