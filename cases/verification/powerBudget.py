@@ -74,13 +74,13 @@ def budget(path, rate):
         prev = r
     k0, k1 = rows[0][1], rows[-1][1]
     rest = k1 - k0 - wp - wo
-    line = ("%s: t %g..%g, %d steps: kinetic %.6g -> %.6g J; W_pressure %+.4g J (%+.4f of the "
-            "start), W_other %+.4g J (%+.4f), rest %+.4g J (%+.4f)"
+    line = ("%s: t %g..%g, %d steps: kinetic %.6g -> %.6g J; W_pressure %+.4g J (%+.5f of the "
+            "start), W_other %+.4g J (%+.5f), rest %+.4g J (%+.5f)"
             % (path, rows[0][0], rows[-1][0], len(steps), k0, k1, wp, wp / k0, wo, wo / k0,
                rest, rest / k0))
     if rate:
         ex = rate * ik
-        line += ("; over the exact %.6g J: pressure %+.4f, other %+.4f, rest %+.4f"
+        line += ("; over the exact %.6g J: pressure %+.5f, other %+.5f, rest %+.5f"
                  % (ex, wp / ex, wo / ex, rest / ex))
     print(line)
 
