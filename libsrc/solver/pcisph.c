@@ -973,15 +973,19 @@ static void ensure_scratch(pcs_solver *s)
             sl_free_aligned(s->p_block);
             s->p_block = sl_alloc_aligned(s->block_cap * sizeof *s->p_block, "pressure sums");
         }
-        if (s->power_on) {
-            sl_free_aligned(s->pw_block);
-            s->pw_block = sl_alloc_aligned(s->block_cap * sizeof *s->pw_block, "power sums");
-        }
         if (!s->prm.method->wall_density) {
             sl_free_aligned(s->vol_block);
             s->vol_block =
                 sl_alloc_aligned(s->block_cap * sizeof *s->vol_block, "density error sums");
         }
+    }
+    if (s->power_on && (s->pw_cap < s->f->cap || s->pw_blocks < s->block_cap)) {
+        s->pw_cap = s->f->cap;
+        s->pw_blocks = s->block_cap;
+        sl_free_aligned(s->pw);
+        sl_free_aligned(s->pw_block);
+        s->pw = sl_alloc_aligned(s->pw_cap * sizeof *s->pw, "power");
+        s->pw_block = sl_alloc_aligned(s->pw_blocks * sizeof *s->pw_block, "power sums");
     }
     if (s->err_cap < s->f->cap) {
         sl_free_aligned(s->err);
@@ -1002,10 +1006,6 @@ static void ensure_scratch(pcs_solver *s)
         if (s->prm.force_correction == PCS_FORCE_CONSERVATIVE) {
             sl_free_aligned(s->lforce);
             s->lforce = sl_alloc_aligned(9 * s->f->cap * sizeof *s->lforce, "gradient correction");
-        }
-        if (s->power_on) {
-            sl_free_aligned(s->pw);
-            s->pw = sl_alloc_aligned(s->f->cap * sizeof *s->pw, "power");
         }
         if (!s->prm.method->wall_density) {
             sl_free_aligned(s->err_vol);
@@ -1353,8 +1353,7 @@ static void step_power(pcs_solver *s, size_t i0, size_t i1)
 void pcs_want_power(pcs_solver *s)
 {
     s->power_on = 1;
-    s->power[0] = s->power[1] = (double)NAN;
-    s->err_cap = s->block_cap = 0; /* ensure_scratch: every scratch again, with pw */
+    s->power[0] = s->power[1] = (double)NAN; /* pw: ensure_scratch */
 }
 
 /* Euler-Cromer, then the world collision (eq. 11, 12); vmax and fmax. */

@@ -240,6 +240,7 @@ struct pcs_solver {
     int power_on;
     double power[2];
     double *pw, *pw_block;
+    size_t pw_cap, pw_blocks;
     size_t err_cap;
     double *ap_best;          /* pressure force of the best iteration (3 x cap) */
     double *lcorr;            /* gradientCorrection, pressureForce corrected: L_i (9 x cap) */
