@@ -818,21 +818,24 @@ static int take_request_file(const run *r, const char *name)
 /* Requests to write (a signal, the file writeNow) and to stop (a signal,
  * the file stopNow): the job's when any rank got one (-parallel: one
  * reduction per step, so that every rank writes and stops at the same
- * step). */
-static void poll_write_requests(run *r)
+ * step).  Returns whether the job stops after this step: the value the
+ * ranks agreed on here, never the flag itself, which a signal may set on
+ * one rank after the reduction (that rank would stop a step before the
+ * others, whose next collective then finds it gone: MPI_ERR_TRUNCATE in
+ * the End summary, seen once under load); such a late request is the
+ * next step's. */
+static int poll_write_requests(run *r)
 {
     if (take_request_file(r, "writeNow")) write_requested = 1;
     if (take_request_file(r, "stopNow")) stop_requested = stopped_by_file = 1;
-    if (r->parallel) {
-        const int any = par_max_int((write_requested ? 1 : 0) | (stop_requested ? 2 : 0));
-        write_requested = (any & 1) != 0;
-        if (any & 2) stop_requested = 1;
-    }
-    if (write_requested && r->last_write != r->t) {
+    int want = (write_requested ? 1 : 0) | (stop_requested ? 2 : 0);
+    if (want & 1) write_requested = 0; /* taken: a later signal asks again */
+    if (r->parallel) want = par_max_int(want);
+    if ((want & 1) && r->last_write != r->t) {
         sl_info("Writing at t = %.9g on request", r->t);
         write_time(r);
     }
-    write_requested = 0;
+    return (want & 2) != 0;
 }
 
 /* One line of totals: steps, shocks, iterations, errors, wall time. */
@@ -1206,18 +1209,19 @@ int main(int argc, char **argv)
     if (!r.root) r.prog.mode = SL_PROGRESS_OFF;
     if (!r.quiet && isatty(STDOUT_FILENO) && r.prog.mode == SL_PROGRESS_LINE)
         r.prog.mode = SL_PROGRESS_PLAIN; /* step lines scroll on the same terminal */
+    int stopped = 0;                     /* agreed by every rank (poll_write_requests) */
     while (r.t < r.t_end - 1e-9 * r.ctl.dt) {
         advance(&r);
-        poll_write_requests(&r);
+        stopped = poll_write_requests(&r);
         if (fo_on) gather_for(&r, fo);
         fo_execute(fo, &view, r.t, r.step, r.last_write == r.t);
         progress(&r);
-        if (stop_requested) {
+        if (stopped) {
             stopped_by_signal(&r);
             break;
         }
     }
-    if (!stop_requested && r.last_write != r.t) write_time(&r); /* endTime, whatever happened */
+    if (!stopped && r.last_write != r.t) write_time(&r); /* endTime, whatever happened */
     sl_progress_end(&r.prog);
     summary(&r);
     sl_info("Open %s/fluid.pvd in ParaView.", r.c.dir);
