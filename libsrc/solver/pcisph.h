@@ -373,7 +373,7 @@ size_t pcs_boundary_total(const pcs_solver *s);
  * association (the same bits on any ranks x threads; collective).  With
  * Euler-Cromer, dt times the two powers is the kinetic energy's change
  * plus dt^2 m sum |a|^2 / 2, less what collisions and particleShifting's
- * velocity correction change.  Costs one pass over the rows a step. */
+ * velocity correction change.  Costs two passes over the rows a step. */
 void pcs_want_power(pcs_solver *s);
 
 void pcs_gather(pcs_solver *s);
