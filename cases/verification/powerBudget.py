@@ -12,7 +12,7 @@ Over the run, with dt_n the time between rows n - 1 and n,
 
 rest is Euler-Cromer's own loss (-dt^2 m sum |a|^2 / 2 a step), collisions
 and particleShifting's velocity correction.  Each is printed in J and over
-the kinetic energy at the start (the first row after the initial state).
+the kinetic energy at the start (the initial state's row, whose powers are nan).
 With -rate R (1/s) each is also given over R times the kinetic energy's time
 integral: the energy an exact operator removing R per second would remove
 from the run's own field (the Taylor-Green vortex: R = 4 nu k^2 for a
